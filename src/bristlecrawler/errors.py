@@ -1,0 +1,21 @@
+"""Exceptions shared by every layer.
+
+User input is validated at the edge and refused with :class:`InputError`, whose message is a
+single line naming the offending parameter; the CLI prints it and exits with code 2.
+Solvers report failures as values (a status and a message) and raise :class:`SolverError`
+only when the caller asked them to throw.
+"""
+
+from __future__ import annotations
+
+
+class BristlecrawlerError(Exception):
+    """Base class of the package's own errors."""
+
+
+class InputError(BristlecrawlerError, ValueError):
+    """Bad user input (parameter, configuration file, data file). One line, names the problem."""
+
+
+class SolverError(BristlecrawlerError, RuntimeError):
+    """A solver could not produce a trustworthy answer; the message says where and why."""
