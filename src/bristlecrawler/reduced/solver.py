@@ -1,0 +1,310 @@
+"""Exact incremental solver of the quasi-static, rate-independent reduced crawler.
+
+Unknowns at time t: the rigid position X_0 of the (massless) body and the elongations e_i of
+the N bristle springs; tip positions are ``x_i = X_0 + a_i(t) - e_i`` where ``a_i(t)`` is the
+prescribed distance from bristle 0 to bristle i (the body shape). Force on the crawler from
+bristle i is ``F_i = -k_i e_i`` (paper eq. 4.5), global balance ``sum_i F_i = 0`` (eq. 4.3),
+and each tip obeys the directional law (eq. 4.1): it may slide forwards only at
+``k_i e_i = F_p,i`` and backwards only at ``k_i e_i = -F_n,i``.
+
+Between two samples the body shape is interpolated linearly, so the rate problem has
+piecewise-constant solutions; stick/slip changes are located exactly (no regularisation):
+
+* Long stretches with an unchanged stick/slip mode are advanced in closed form and in bulk
+  (vectorised over samples): with S the sliding and K the sticking bristles,
+  ``dX_0 = -sum_K k_i da_i / sum_K k_i``.
+* An interval where the mode changes is integrated event by event: at each sub-step the rate
+  problem ``min_{v, xdot} 1/2 sum k_i (v + adot_i - xdot_i)^2`` with sign constraints on the
+  tips at yield is solved exactly (its optimality condition is a monotone piecewise-linear
+  equation in v), then advanced to the next yield event.
+
+Work is ``W = int sum_i k_i e_i da_i`` (the actuators' power, exact by the trapezoidal rule
+because e is piecewise linear), dissipation ``D = sum_i int (F_p xdot+ + F_n xdot-)``; the
+balance ``W = E_el + D`` is a genuine check because the three are computed independently.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from bristlecrawler.errors import InputError, SolverError
+from bristlecrawler.reduced.crawler import ReducedCrawler
+
+STICK, SLIP_FORWARD, SLIP_BACKWARD = 0, 1, -1
+
+
+@dataclass(frozen=True)
+class Event:
+    """A change of the stick/slip state of one bristle at time ``t`` (s)."""
+
+    t: float
+    bristle: int
+    before: int
+    after: int
+
+    @property
+    def kind(self) -> str:
+        names = {STICK: "stick", SLIP_FORWARD: "slip+", SLIP_BACKWARD: "slip-"}
+        return f"{names[self.before]}->{names[self.after]}"
+
+
+@dataclass(frozen=True)
+class ReducedResult:
+    """Time series of a reduced-model run (all arrays indexed by sample first).
+
+    Attributes:
+        t: times, s, shape (M,).
+        shortening: segment shortenings, mm, shape (M, N-1).
+        X: attachment (body) positions of the bristles, mm, shape (M, N); X[0, 0] = 0.
+        x: tip positions, mm, shape (M, N).
+        force: force F_i on the crawler through bristle i, N, shape (M, N).
+        state: stick/slip state over the interval ending at each sample (0 stick,
+            +1 sliding forwards, -1 backwards), shape (M, N).
+        elastic_energy, dissipation, work: mJ, shape (M,); dissipation and work cumulative.
+        events: every stick/slip change, with its exact time.
+        cycle_bounds: sample indices at which cycles start, plus the last sample.
+    """
+
+    crawler: ReducedCrawler
+    t: np.ndarray
+    shortening: np.ndarray
+    X: np.ndarray
+    x: np.ndarray
+    force: np.ndarray
+    state: np.ndarray
+    elastic_energy: np.ndarray
+    dissipation: np.ndarray
+    work: np.ndarray
+    events: tuple[Event, ...] = ()
+    cycle_bounds: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+
+    @property
+    def delta(self) -> np.ndarray:
+        """Displacement of the front end (last bristle attachment), mm: the paper's Delta."""
+        return self.X[:, -1] - self.X[0, -1]
+
+    @property
+    def rear_displacement(self) -> np.ndarray:
+        """Displacement of the rear end (first bristle attachment), mm."""
+        return self.X[:, 0] - self.X[0, 0]
+
+    @property
+    def net_advance(self) -> float:
+        """Front-end displacement at the end of the run, mm."""
+        return float(self.delta[-1])
+
+    @property
+    def energy_balance_error(self) -> float:
+        """max |W - E_el - D| relative to the largest of max|W|, max D, max E_el."""
+        scale = max(np.abs(self.work).max(), self.dissipation.max(), self.elastic_energy.max())
+        if scale == 0.0:
+            return 0.0
+        return float(np.abs(self.work - self.elastic_energy - self.dissipation).max() / scale)
+
+    def per_cycle(self) -> tuple[np.ndarray, np.ndarray]:
+        """Advance (mm) and actuator work (mJ) of each cycle, from ``cycle_bounds``."""
+        b = self.cycle_bounds
+        if b.size < 2:
+            return np.zeros(0), np.zeros(0)
+        return np.diff(self.delta[b]), np.diff(self.work[b])
+
+
+class _Stepper:
+    """Holds the crawler constants and the exact per-interval kernels."""
+
+    def __init__(self, crawler: ReducedCrawler, scale: float):
+        self.k = crawler.k
+        self.upper = crawler.fp / crawler.k  # forward-yield elongation, mm
+        self.lower = -crawler.fn / crawler.k  # backward-yield elongation, mm
+        self.fp, self.fn = crawler.fp, crawler.fn
+        self.tol = 1e-12 * scale
+
+    def rate(self, e: np.ndarray, da: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """Exact rate solution for a body-shape rate ``da`` (mm per unit parameter).
+
+        Returns (v, edot, xdot): body rate, spring elongation rates, tip slip rates.
+        """
+        k, tol = self.k, self.tol
+        fwd = e >= self.upper - tol
+        bwd = e <= self.lower + tol
+        active = fwd | bwd
+
+        def r_of(v: float) -> np.ndarray:
+            w = v + da
+            return np.where(fwd, np.minimum(w, 0.0), np.where(bwd, np.maximum(w, 0.0), w))
+
+        if not active.any():
+            v = -float(k @ da) / float(k.sum())
+        else:
+            bps = np.sort(-da[active])
+            g = np.array([k @ r_of(b) for b in bps])
+            gtol = 1e-13 * float(k.sum()) * max(float(np.abs(da).max()), 1e-300)
+            below = np.flatnonzero(g <= gtol)
+            if below.size == 0:  # root left of every breakpoint: slope = stiffness of stickers+fwd
+                slope = float(k[~bwd].sum())
+                v = bps[0] - g[0] / slope if slope > 0 else bps[0]
+            elif below[-1] == bps.size - 1:  # right of every breakpoint
+                slope = float(k[~fwd].sum())
+                if slope <= 0.0:
+                    raise SolverError("every bristle is at forward yield: no equilibrium exists")
+                v = bps[-1] - g[-1] / slope
+            else:
+                p = below[-1]
+                # sup{v: g(v) <= 0}: the F_n -> F_p+ limit where degenerate (flat g).
+                v = bps[p] + (0.0 - min(g[p], 0.0)) * (bps[p + 1] - bps[p]) / (g[p + 1] - g[p])
+        edot = r_of(v)
+        xdot = v + da - edot
+        return float(v), edot, xdot
+
+    def mode(self, xdot: np.ndarray) -> np.ndarray:
+        return np.where(xdot > self.tol, SLIP_FORWARD, np.where(xdot < -self.tol, SLIP_BACKWARD, STICK))
+
+    def interval(self, e, x, X0, da, t0, t1, prev_mode, events):
+        """Integrate one interval event by event. Returns e, x, X0, mode, dW, dD."""
+        remaining, dW, dD, tau0 = 1.0, 0.0, 0.0, 0.0
+        k = self.k
+        mode = prev_mode
+        for _ in range(8 * k.size + 16):
+            v, edot, xdot = self.rate(e, da)
+            new_mode = self.mode(xdot)
+            for i in np.flatnonzero(new_mode != mode):
+                events.append(Event(float(t0 + tau0 * (t1 - t0)), int(i), int(mode[i]), int(new_mode[i])))
+            mode = new_mode
+            with np.errstate(divide="ignore", invalid="ignore"):
+                up = np.where((edot > 0) & (e < self.upper - self.tol), (self.upper - e) / edot, np.inf)
+                lo = np.where((edot < 0) & (e > self.lower + self.tol), (self.lower - e) / edot, np.inf)
+            hit = np.minimum(up, lo)
+            i_hit = int(np.argmin(hit))
+            yielded = float(hit[i_hit]) <= remaining
+            step = min(float(hit[i_hit]), remaining)
+            e_new = e + edot * step
+            dW += float(k @ (0.5 * (e + e_new) * da)) * step
+            dD += float(self.fp @ np.maximum(xdot, 0.0) + self.fn @ np.maximum(-xdot, 0.0)) * step
+            x = x + xdot * step
+            X0 = X0 + v * step
+            e = e_new
+            remaining -= step
+            tau0 += step
+            if yielded:  # put the tip that reached yield exactly on its bound
+                e[i_hit] = self.upper[i_hit] if up[i_hit] <= lo[i_hit] else self.lower[i_hit]
+            if remaining <= 1e-15:
+                return e, x, X0, mode, dW, dD
+        raise SolverError(
+            f"stick/slip events did not settle within the interval t=[{t0:g}, {t1:g}] s"
+        )
+
+
+def solve(
+    crawler: ReducedCrawler,
+    t: np.ndarray,
+    shortening: np.ndarray,
+    cycle_bounds: np.ndarray | None = None,
+) -> ReducedResult:
+    """Solve the quasi-static evolution for sampled segment shortenings.
+
+    Args:
+        crawler: the reduced crawler (N bristles).
+        t: sample times, s, strictly increasing, shape (M,).
+        shortening: segment shortenings at those times, mm, shape (M, N-1) (or (M,) when
+            N = 2). The crawler starts unloaded (all springs at rest) at ``t[0]``.
+        cycle_bounds: optional sample indices where cycles start (for per-cycle metrics).
+
+    Returns:
+        ReducedResult. Raises InputError on inconsistent input, SolverError if the rate
+        problem has no solution (cannot happen for valid crawlers).
+    """
+    t = np.asarray(t, dtype=float)
+    s = np.asarray(shortening, dtype=float)
+    if s.ndim == 1:
+        s = s[:, None]
+    n = crawler.n_bristles
+    if t.ndim != 1 or t.size < 2 or s.shape != (t.size, n - 1):
+        raise InputError(f"shortening must have shape ({t.size}, {n - 1}), got {s.shape}")
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(s))):
+        raise InputError("times and shortenings must be finite")
+    if np.any(np.diff(t) <= 0):
+        raise InputError("sample times must be strictly increasing")
+    crawler.check_stroke(s.max(axis=0))
+
+    a = np.zeros((t.size, n))
+    a[:, 1:] = np.cumsum(crawler.segment_lengths - s, axis=1)
+    M = t.size
+    scale = crawler.length + float(np.max(crawler.fn / crawler.k))
+    st = _Stepper(crawler, scale)
+    k, tol = crawler.k, st.tol
+
+    X0 = np.zeros(M)
+    e = np.zeros((M, n))
+    x = np.zeros((M, n))
+    x[0] = a[0]
+    mode_out = np.zeros((M, n), dtype=np.int8)
+    W = np.zeros(M)
+    D = np.zeros(M)
+    events: list[Event] = []
+    mode = np.zeros(n, dtype=np.int8)
+
+    m, chunk = 0, 64
+    while m < M - 1:
+        da0 = a[m + 1] - a[m]
+        v, edot, xdot = st.rate(e[m], da0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up = np.where((edot > 0) & (e[m] < st.upper - tol), (st.upper - e[m]) / edot, np.inf)
+            lo = np.where((edot < 0) & (e[m] > st.lower + tol), (st.lower - e[m]) / edot, np.inf)
+        if min(up.min(), lo.min()) < 1.0:
+            em, xm, X0m, mode, dW, dD = st.interval(
+                e[m].copy(), x[m].copy(), X0[m], da0, t[m], t[m + 1], mode, events
+            )
+            e[m + 1], x[m + 1], X0[m + 1] = em, xm, X0m
+            W[m + 1], D[m + 1] = W[m] + dW, D[m] + dD
+            mode_out[m + 1] = mode
+            m += 1
+            chunk = 64
+            continue
+        new_mode = st.mode(xdot)
+        for i in np.flatnonzero(new_mode != mode):
+            events.append(Event(float(t[m]), int(i), int(mode[i]), int(new_mode[i])))
+        mode = new_mode
+
+        # Advance the unchanged mode in bulk over samples m..end.
+        end = min(M - 1, m + chunk)
+        stick = mode == STICK
+        da = a[m : end + 1] - a[m]
+        dX0 = -(da[:, stick] @ k[stick]) / k[stick].sum()
+        disp = dX0[:, None] + da
+        e_try = np.where(stick, e[m] + disp, e[m])
+        x_try = np.where(stick, x[m], x[m] + disp)
+        bad_e = ((e_try > st.upper + tol) | (e_try < st.lower - tol)) & stick
+        dx = np.diff(x_try, axis=0)
+        bad_x = (mode * dx < -tol) & ~stick
+        bad = bad_e[1:].any(axis=1) | bad_x.any(axis=1)
+        q = int(np.argmax(bad)) if bad.any() else end - m  # accepted intervals
+        chunk = chunk * 2 if not bad.any() else 64
+        sl = slice(m + 1, m + q + 1)
+        e[sl], x[sl], X0[sl] = e_try[1 : q + 1], x_try[1 : q + 1], X0[m] + dX0[1 : q + 1]
+        mode_out[sl] = mode
+        ksum = e_try[: q + 1] * k
+        dW = np.einsum("ij,ij->i", 0.5 * (ksum[1:] + ksum[:-1]), np.diff(da[: q + 1], axis=0))
+        f = np.where(mode > 0, crawler.fp, crawler.fn)
+        dD = np.abs(dx[:q]) @ np.where(stick, 0.0, f)
+        W[sl] = W[m] + np.cumsum(dW)
+        D[sl] = D[m] + np.cumsum(dD)
+        m += q
+
+    X = X0[:, None] + a
+    bounds = np.asarray(cycle_bounds if cycle_bounds is not None else [0, M - 1], dtype=int)
+    return ReducedResult(
+        crawler=crawler,
+        t=t,
+        shortening=s,
+        X=X,
+        x=x,
+        force=-k * e,
+        state=mode_out,
+        elastic_energy=0.5 * (e**2) @ k,
+        dissipation=D,
+        work=W,
+        events=tuple(events),
+        cycle_bounds=bounds,
+    )
