@@ -1,0 +1,119 @@
+"""``bristlecrawler reduced`` and ``bristlecrawler calibrate``: the reduced 1-D model."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from bristlecrawler.reduced.crawler import (
+    DEFAULT_FN_OVER_FP,
+    PAPER_CYCLES,
+    PAPER_FP,
+    PAPER_K,
+    PAPER_LENGTH,
+    PAPER_PERIOD,
+    PAPER_S_MAX,
+)
+
+
+def reduced_cmd(
+    s_max: Annotated[float, typer.Option("--s-max", help="peak shortening s~ per segment, mm")] = PAPER_S_MAX,
+    fp: Annotated[float, typer.Option("--fp", help="F_p, resistance along the grain, N")] = PAPER_FP,
+    fn: Annotated[float | None, typer.Option(
+        "--fn", help=f"F_n, resistance against the grain, N [default: {DEFAULT_FN_OVER_FP:g} x fp]"
+    )] = None,
+    k: Annotated[float, typer.Option("--k", help="bristle stiffness, N/mm")] = PAPER_K,
+    length: Annotated[float, typer.Option("--length", help="distance between the end bristles, mm")] = PAPER_LENGTH,
+    cycles: Annotated[int, typer.Option("--cycles", help="number of strokes")] = PAPER_CYCLES,
+    period: Annotated[float, typer.Option("--period", help="stroke period T, s")] = PAPER_PERIOD,
+    bristles: Annotated[int, typer.Option("--bristles", help="number of bristles N (>= 2)")] = 2,
+    gait: Annotated[str, typer.Option("--gait", help="breathing | peristaltic")] = "breathing",
+    lag: Annotated[float | None, typer.Option(
+        "--lag", help="peristaltic delay between neighbouring segments, s [default: period/4]"
+    )] = None,
+    stroke: Annotated[str, typer.Option("--stroke", help="sin2 | triangle (rate-independent model: same Delta(s))")] = "sin2",
+    history: Annotated[Path | None, typer.Option(
+        "--history", help="CSV with header and columns t (s), s (mm), instead of the sin^2 stroke"
+    )] = None,
+    samples: Annotated[int, typer.Option("--samples-per-cycle", help="samples per period")] = 2000,
+    out: Annotated[Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the PNG figures")] = False,
+) -> None:
+    """Run the reduced one-dimensional model (paper Section 4) with the exact solver.
+
+    Defaults are the paper's: s~ = 20 mm, F_p/k = 0.95 mm, k = 0.48 N/mm, L = 100 mm,
+    5 cycles of s(t) = s~ sin^2(pi t / T), T = 20 s. Writes reduced.nc (xarray/NetCDF),
+    delta_vs_s.png, friction_law.png, summary.json, config.json and meta.json.
+    """
+    from bristlecrawler.io.config import parse_model
+    from bristlecrawler.io.reduced_config import ReducedConfig
+    from bristlecrawler.jobs.reduced import run_reduced
+
+    config = parse_model(ReducedConfig, {
+        "s_max": s_max, "fp": fp, "fn": fn, "k": k, "length": length, "cycles": cycles,
+        "period": period, "bristles": bristles, "gait": gait, "lag": lag, "stroke": stroke,
+        "history": None if history is None else str(history), "samples_per_cycle": samples,
+    })
+    run = run_reduced(config, out=out, figures=not no_figures,
+                      command="bristlecrawler " + shlex.join(sys.argv[1:]))
+    if as_json:
+        typer.echo(json.dumps(run.summary))
+        return
+    _print_summary(run.summary)
+
+
+def _print_summary(summary: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title="reduced model", show_header=True)
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    table.add_row("net advance (mm)", f"{summary['net_advance_mm']:.4f}")
+    if "closed_form_net_advance_mm" in summary:
+        table.add_row("  closed form (mm)", f"{summary['closed_form_net_advance_mm']:.4f}")
+    table.add_row("advance per cycle (mm)", ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"]))
+    table.add_row("actuator work (mJ)", f"{summary['work_mJ']:.4f}")
+    if "closed_form_work_mJ" in summary:
+        table.add_row("  closed form (mJ)", f"{summary['closed_form_work_mJ']:.4f}")
+    table.add_row("work per cycle (mJ)", ", ".join(f"{w:.3f}" for w in summary["work_per_cycle_mJ"]))
+    if "regime" in summary:
+        table.add_row("regime", str(summary["regime"]))
+    table.add_row("energy balance, rel. error", f"{summary['energy_balance_rel_error']:.1e}")
+    table.add_row("stick/slip events", str(summary["events"]))
+    console = Console()
+    console.print(table)
+    if "output_dir" in summary:
+        console.print(f"results in {summary['output_dir']}")
+
+
+def calibrate_cmd(
+    s_max: Annotated[float, typer.Option("--s-max", help="peak shortening s~, mm")],
+    cycles: Annotated[int, typer.Option("--cycles", help="number of cycles n")],
+    advance: Annotated[float, typer.Option("--advance", help="net advance after n cycles, mm")],
+    work: Annotated[float | None, typer.Option("--work", help="actuator work over n cycles, mJ")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="print JSON on stdout")] = False,
+) -> None:
+    """Calibrate F_p/k (and, with --work, F_p and k) from a measured gait (paper Section 4)."""
+    from bristlecrawler.reduced.calibration import calibrate
+
+    cal = calibrate(s_max, cycles, advance, work)
+    d = cal.as_dict()
+    if as_json:
+        typer.echo(json.dumps(d))
+        return
+    typer.echo(f"F_p/k = {cal.fp_over_k_mm:.4f} mm (regime {cal.regime})")
+    if cal.fp_N is not None:
+        typer.echo(f"F_p   = {cal.fp_N:.4f} N")
+        typer.echo(f"k     = {cal.k_N_per_mm:.4f} N/mm")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("reduced")(reduced_cmd)
+    app.command("calibrate")(calibrate_cmd)

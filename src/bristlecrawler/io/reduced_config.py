@@ -1,0 +1,64 @@
+"""The reduced-model run configuration (CLI options or a TOML table), validated by pydantic."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from bristlecrawler.reduced.crawler import (
+    DEFAULT_FN_OVER_FP,
+    PAPER_CYCLES,
+    PAPER_FP,
+    PAPER_K,
+    PAPER_LENGTH,
+    PAPER_PERIOD,
+    PAPER_S_MAX,
+)
+
+
+class ReducedConfig(BaseModel):
+    """Parameters of a reduced-model run. Defaults reproduce the paper (Section 4)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    s_max: float = Field(PAPER_S_MAX, gt=0, allow_inf_nan=False,
+                         description="peak shortening s~ of each segment, mm")
+    fp: float = Field(PAPER_FP, gt=0, allow_inf_nan=False,
+                      description="F_p, resistance along the grain, N")
+    fn: float | None = Field(None, gt=0, allow_inf_nan=False,
+                             description=f"F_n, resistance against the grain, N "
+                                         f"(default {DEFAULT_FN_OVER_FP:g} F_p)")
+    k: float = Field(PAPER_K, gt=0, allow_inf_nan=False, description="bristle stiffness, N/mm")
+    length: float = Field(PAPER_LENGTH, gt=0, allow_inf_nan=False,
+                          description="distance between first and last bristle, mm")
+    cycles: int = Field(PAPER_CYCLES, ge=1, le=100_000, description="number of strokes")
+    period: float = Field(PAPER_PERIOD, gt=0, allow_inf_nan=False, description="stroke period T, s")
+    bristles: int = Field(2, ge=2, le=10_000, description="number of bristles N")
+    gait: Literal["breathing", "peristaltic"] = "breathing"
+    lag: float | None = Field(None, allow_inf_nan=False,
+                              description="peristaltic delay between neighbouring segments, s "
+                                          "(default period / 4)")
+    stroke: Literal["sin2", "triangle"] = "sin2"
+    history: str | None = Field(None, description="CSV file with columns t (s) and s (mm)")
+    samples_per_cycle: int = Field(2000, ge=2, le=10_000_000,
+                                   description="samples per period of an analytic stroke")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> ReducedConfig:
+        fn = self.fn if self.fn is not None else DEFAULT_FN_OVER_FP * self.fp
+        if fn < self.fp:
+            raise ValueError(f"fn ({fn:g} N) must be >= fp ({self.fp:g} N)")
+        seg = self.length / (self.bristles - 1)
+        if self.history is None and self.s_max >= seg:
+            what = "length L" if self.bristles == 2 else f"segment length L/(N-1) = {seg:g} mm"
+            raise ValueError(f"s_max ({self.s_max:g} mm) must be smaller than the {what}")
+        return self
+
+    @property
+    def fn_resolved(self) -> float:
+        return self.fn if self.fn is not None else DEFAULT_FN_OVER_FP * self.fp
+
+    @property
+    def lag_resolved(self) -> float:
+        return self.lag if self.lag is not None else self.period / 4

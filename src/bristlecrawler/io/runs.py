@@ -1,0 +1,98 @@
+"""Run folders: ``runs/<id>/`` with the resolved configuration, version and git revision."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+import platform
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from bristlecrawler.errors import InputError
+from bristlecrawler.io.atomic import atomic_write_text
+
+
+@dataclass(frozen=True)
+class RunInfo:
+    """Provenance of a run."""
+
+    run_id: str
+    version: str
+    git_revision: str
+    started: str
+    command: str
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "run_id": self.run_id,
+            "package_version": self.version,
+            "git_revision": self.git_revision,
+            "started_utc": self.started,
+            "command": self.command,
+            "python": sys.version.split()[0],
+            "platform": platform.platform(),
+        }
+
+
+def git_revision() -> str:
+    """Git revision of the source tree this package was imported from ("+dirty" if modified),
+    or "unknown" outside a git checkout."""
+    here = Path(__file__).resolve().parent
+    try:
+        rev = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=here, capture_output=True, text=True, timeout=5
+        )
+        if rev.returncode != 0:
+            return "unknown"
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=here,
+            capture_output=True,
+            text=True,
+            timeout=5,
+        )
+        return rev.stdout.strip() + ("+dirty" if dirty.stdout.strip() else "")
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def prepare_run_dir(out: str | os.PathLike | None, kind: str, root: str = "runs") -> Path:
+    """Create and return the output folder: ``out`` if given, else ``runs/<timestamp>-<kind>``.
+
+    Refuses an ``out`` that exists and is not a folder. Existing files in ``out`` are only
+    ever replaced atomically by the files of the new run.
+    """
+    if out is not None:
+        path = Path(out)
+        if path.exists() and not path.is_dir():
+            raise InputError(f"output path {path} exists and is not a folder")
+        path.mkdir(parents=True, exist_ok=True)
+        return path
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
+    base = Path(root) / f"{stamp}-{kind}"
+    path, i = base, 1
+    while path.exists():
+        path = base.with_name(f"{base.name}-{i}")
+        i += 1
+    path.mkdir(parents=True)
+    return path
+
+
+def write_run_metadata(run_dir: Path, config: dict[str, Any], command: str) -> RunInfo:
+    """Write ``config.json`` (resolved configuration) and ``meta.json`` (provenance)."""
+    from bristlecrawler import __version__
+
+    info = RunInfo(
+        run_id=run_dir.name,
+        version=__version__,
+        git_revision=git_revision(),
+        started=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        command=command,
+    )
+    atomic_write_text(run_dir / "config.json", json.dumps(config, indent=2, default=str) + "\n")
+    atomic_write_text(run_dir / "meta.json", json.dumps(info.as_dict(), indent=2) + "\n")
+    return info

@@ -1,0 +1,110 @@
+"""The ``bristlecrawler reduced`` job: solve, summarise, write NetCDF, figures and metadata."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+
+from bristlecrawler.io.reduced_config import ReducedConfig
+from bristlecrawler.reduced import closed_form as cf
+from bristlecrawler.reduced.crawler import ReducedCrawler
+from bristlecrawler.reduced.gaits import breathing, peristaltic
+from bristlecrawler.reduced.simulate import simulate
+from bristlecrawler.reduced.solver import ReducedResult
+from bristlecrawler.reduced.strokes import Sin2Stroke, TriangleStroke, read_history_csv
+
+
+@dataclass(frozen=True)
+class ReducedRun:
+    """A finished reduced-model run: the result, its summary and where files went."""
+
+    result: ReducedResult
+    summary: dict[str, Any]
+    out_dir: Path | None
+
+
+def build(config: ReducedConfig):
+    """Crawler and gait described by ``config`` (reads the history file if any)."""
+    crawler = ReducedCrawler.uniform(
+        config.bristles, config.length, config.k, config.fp, config.fn_resolved
+    )
+    if config.history is not None:
+        stroke = read_history_csv(config.history)
+        crawler.check_stroke(stroke.s_max)
+    else:
+        cls = Sin2Stroke if config.stroke == "sin2" else TriangleStroke
+        stroke = cls(config.s_max, config.period)
+    nseg = config.bristles - 1
+    if config.gait == "peristaltic":
+        gait = peristaltic(stroke, nseg, config.lag_resolved)
+    else:
+        gait = breathing(stroke, nseg)
+    return crawler, gait
+
+
+def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
+    """Summary numbers (units in the key names)."""
+    adv, work = result.per_cycle()
+    out: dict[str, Any] = {
+        "net_advance_mm": result.net_advance,
+        "advance_per_cycle_mm": adv.tolist(),
+        "work_mJ": float(result.work[-1]),
+        "work_per_cycle_mJ": work.tolist(),
+        "dissipation_mJ": float(result.dissipation[-1]),
+        "final_elastic_energy_mJ": float(result.elastic_energy[-1]),
+        "energy_balance_rel_error": result.energy_balance_error,
+        "bristles": result.crawler.n_bristles,
+        "gait": config.gait,
+        "fp_over_k_mm": float(config.fp / config.k),
+        "samples": int(result.t.size),
+        "events": len(result.events),
+    }
+    if config.bristles == 2 and config.history is None:
+        out["regime"] = int(cf.regime(config.s_max, config.fp / config.k))
+        out["closed_form_net_advance_mm"] = float(
+            cf.net_advance(config.s_max, config.fp / config.k, config.cycles)
+        )
+        out["closed_form_work_mJ"] = float(cf.work(config.s_max, config.fp, config.k, config.cycles))
+    return out
+
+
+def run_reduced(
+    config: ReducedConfig,
+    out: str | Path | None = None,
+    write: bool = True,
+    figures: bool = True,
+    command: str = "",
+) -> ReducedRun:
+    """Solve; with ``write``, put ``reduced.nc``, figures, ``summary.json``, ``config.json``
+    and ``meta.json`` in ``out`` (default ``runs/<timestamp>-reduced``), each atomically.
+
+    Nothing is written unless the input is valid and the solve succeeded.
+    """
+    crawler, gait = build(config)
+    result = simulate(crawler, gait, config.cycles, config.samples_per_cycle)
+    summary = summarize(result, config)
+    if not write:
+        return ReducedRun(result, summary, None)
+
+    from bristlecrawler.io.atomic import atomic_write_text
+    from bristlecrawler.io.netcdf import reduced_dataset, write_netcdf
+    from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
+
+    out_dir = prepare_run_dir(out, "reduced")
+
+    info = write_run_metadata(out_dir, config.model_dump(), command)
+    ds = reduced_dataset(result, attrs=info.as_dict() | {"config": json.dumps(config.model_dump())})
+    write_netcdf(ds, out_dir / "reduced.nc")
+    if figures:
+        from bristlecrawler.viz.reduced import plot_delta_vs_s, plot_friction_law, save_figure
+
+        title = (f"reduced model: N={crawler.n_bristles}, {config.gait}, "
+                 f"F_p/k={config.fp / config.k:.3g} mm, net {result.net_advance:.2f} mm")
+        save_figure(plot_delta_vs_s(result, title=title), out_dir / "delta_vs_s.png")
+        save_figure(plot_friction_law(crawler.friction(0)), out_dir / "friction_law.png")
+    summary = summary | {"output_dir": str(out_dir)}
+    atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2) + "\n")
+    return ReducedRun(result, summary, out_dir)
