@@ -7,9 +7,9 @@ Bad input ends with one line on stderr and exit code 2, before any work starts.
 
 from __future__ import annotations
 
+import importlib
 import sys
 
-import click
 import typer
 
 from bristlecrawler.errors import InputError, SolverError
@@ -47,18 +47,37 @@ def _fail(message: str, code: int) -> None:
     raise SystemExit(code)
 
 
+def _click_exceptions(name: str) -> tuple[type[BaseException], ...]:
+    """``name`` from click and from the copy of click that newer Typer versions vendor."""
+    found = []
+    for module in ("typer._click.exceptions", "click.exceptions"):
+        try:
+            cls = getattr(importlib.import_module(module), name, None)
+        except ImportError:
+            continue
+        if cls is not None and cls not in found:
+            found.append(cls)
+    return tuple(found)
+
+
+_NO_ARGS = _click_exceptions("NoArgsIsHelpError")
+_USAGE = _click_exceptions("UsageError")
+_ABORT = _click_exceptions("Abort")
+_EXIT = _click_exceptions("Exit")
+
+
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI; bad input gives one ``error:`` line and exit code 2, no traceback."""
     try:
         result = app(args=argv, standalone_mode=False, prog_name="bristlecrawler")
-    except click.exceptions.NoArgsIsHelpError as exc:
-        typer.echo(exc.format_message() if False else exc.ctx.get_help())
+    except _NO_ARGS as exc:
+        typer.echo(exc.ctx.get_help())
         raise SystemExit(0) from None
-    except click.exceptions.UsageError as exc:
+    except _USAGE as exc:
         _fail(exc.format_message(), 2)
-    except click.exceptions.Abort:
+    except _ABORT:
         _fail("aborted", 130)
-    except click.exceptions.Exit as exc:
+    except _EXIT as exc:
         raise SystemExit(exc.exit_code) from None
     except InputError as exc:
         _fail(str(exc), 2)

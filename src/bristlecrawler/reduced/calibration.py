@@ -68,7 +68,7 @@ def calibrate(s_max: float, cycles: int, advance: float, work: float | None = No
             f"advance {a:g} mm must be smaller than cycles * s_max = {n * s:g} mm "
             "(equality would need rigid bristles)"
         )
-    if a >= s / 4:
+    if a > s / 4:
         c, reg = (n * s - a) / (4 * n - 1), cf.STEADY_SLIDING
     else:
         c, reg = s / 2 - a, cf.FIRST_CONTRACTION_ONLY

@@ -111,6 +111,49 @@ class ReducedResult:
         return np.diff(self.delta[b]), np.diff(self.work[b])
 
 
+def _zero_set(f, bps: np.ndarray, ftol: float) -> tuple[float, float]:
+    """Zero set [lo, hi] of a non-decreasing piecewise-linear ``f`` with kinks at ``bps``.
+
+    ``f`` maps an array of points to values; beyond the outer kinks it is linear, so one
+    extra point on each side gives the end slopes exactly. Raises SolverError if the zero
+    set is empty or unbounded (no or no unique force balance).
+    """
+    pts = np.concatenate([[bps[0] - 1.0], bps, [bps[-1] + 1.0]])
+    vals = f(pts)
+    slope_l, slope_r = vals[1] - vals[0], vals[-1] - vals[-2]
+
+    def extrapolate(side: str) -> float:
+        slope, p, v = (slope_l, pts[0], vals[0]) if side == "l" else (slope_r, pts[-1], vals[-1])
+        if slope <= ftol:
+            raise SolverError("no unique force balance: every tip at yield pulls the same way")
+        return p - v / slope
+
+    def interpolate(a: int, b: int) -> float:
+        if vals[b] - vals[a] <= ftol:
+            return 0.5 * (pts[a] + pts[b])
+        return pts[a] - vals[a] * (pts[b] - pts[a]) / (vals[b] - vals[a])
+
+    up = np.flatnonzero(vals >= -ftol)
+    if up.size == 0:
+        lo = extrapolate("r")
+    elif up[0] == 0:
+        lo = extrapolate("l") if vals[0] > ftol else pts[0]
+        if vals[0] <= ftol and slope_l <= ftol:
+            raise SolverError("no unique force balance: indeterminate towards -infinity")
+    else:
+        lo = interpolate(up[0] - 1, up[0])
+    down = np.flatnonzero(vals <= ftol)
+    if down.size == 0:
+        hi = extrapolate("l")
+    elif down[-1] == pts.size - 1:
+        hi = extrapolate("r") if vals[-1] < -ftol else pts[-1]
+        if vals[-1] >= -ftol and slope_r <= ftol:
+            raise SolverError("no unique force balance: indeterminate towards +infinity")
+    else:
+        hi = interpolate(down[-1], down[-1] + 1)
+    return (lo, hi) if lo <= hi else (0.5 * (lo + hi), 0.5 * (lo + hi))
+
+
 class _Stepper:
     """Holds the crawler constants and the exact per-interval kernels."""
 
@@ -124,39 +167,36 @@ class _Stepper:
     def rate(self, e: np.ndarray, da: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         """Exact rate solution for a body-shape rate ``da`` (mm per unit parameter).
 
-        Returns (v, edot, xdot): body rate, spring elongation rates, tip slip rates.
+        The body rate v solves ``g(v) = sum_i k_i edot_i(v) = 0`` (balance), g monotone
+        piecewise linear. When g vanishes on a whole interval (tips at forward and backward
+        yield balance exactly, e.g. F_n = F_p) the rate problem is not unique; then the
+        slip rates of least ``sum k_i xdot_i^2`` are taken, which keeps mirror-symmetric
+        crawlers symmetric. Returns (v, edot, xdot).
         """
         k, tol = self.k, self.tol
         fwd = e >= self.upper - tol
         bwd = e <= self.lower + tol
-        active = fwd | bwd
+        if not (fwd | bwd).any():
+            v = -float(k @ da) / float(k.sum())
+            return v, v + da, np.zeros_like(da)
 
-        def r_of(v: float) -> np.ndarray:
-            w = v + da
+        def edot_of(v: np.ndarray) -> np.ndarray:
+            w = v[:, None] + da
             return np.where(fwd, np.minimum(w, 0.0), np.where(bwd, np.maximum(w, 0.0), w))
 
-        if not active.any():
-            v = -float(k @ da) / float(k.sum())
+        bps = np.unique(-da[fwd | bwd])
+        ftol = 1e-13 * float(k.sum()) * max(float(np.abs(da).max()), 1.0)
+        lo, hi = _zero_set(lambda v: edot_of(v) @ k, bps, ftol)
+        if hi - lo > tol:
+            def xdot_of(v: np.ndarray) -> np.ndarray:
+                return v[:, None] + da - edot_of(v)
+
+            lo2, hi2 = _zero_set(lambda v: xdot_of(v) @ k, bps, ftol)
+            v = float(np.clip(0.5 * (lo2 + hi2), lo, hi))
         else:
-            bps = np.sort(-da[active])
-            g = np.array([k @ r_of(b) for b in bps])
-            gtol = 1e-13 * float(k.sum()) * max(float(np.abs(da).max()), 1e-300)
-            below = np.flatnonzero(g <= gtol)
-            if below.size == 0:  # root left of every breakpoint: slope = stiffness of stickers+fwd
-                slope = float(k[~bwd].sum())
-                v = bps[0] - g[0] / slope if slope > 0 else bps[0]
-            elif below[-1] == bps.size - 1:  # right of every breakpoint
-                slope = float(k[~fwd].sum())
-                if slope <= 0.0:
-                    raise SolverError("every bristle is at forward yield: no equilibrium exists")
-                v = bps[-1] - g[-1] / slope
-            else:
-                p = below[-1]
-                # sup{v: g(v) <= 0}: the F_n -> F_p+ limit where degenerate (flat g).
-                v = bps[p] + (0.0 - min(g[p], 0.0)) * (bps[p + 1] - bps[p]) / (g[p + 1] - g[p])
-        edot = r_of(v)
-        xdot = v + da - edot
-        return float(v), edot, xdot
+            v = 0.5 * (lo + hi)
+        edot = edot_of(np.array([v]))[0]
+        return v, edot, v + da - edot
 
     def mode(self, xdot: np.ndarray) -> np.ndarray:
         return np.where(xdot > self.tol, SLIP_FORWARD, np.where(xdot < -self.tol, SLIP_BACKWARD, STICK))
@@ -271,7 +311,10 @@ def solve(
         end = min(M - 1, m + chunk)
         stick = mode == STICK
         da = a[m : end + 1] - a[m]
-        dX0 = -(da[:, stick] @ k[stick]) / k[stick].sum()
+        # Body motion: balance of the sticking springs; with every tip sliding (a degenerate
+        # balance, F_n = F_p) the least-squares slip rates of the rate problem.
+        w = stick if stick.any() else np.ones_like(stick)
+        dX0 = -(da[:, w] @ k[w]) / k[w].sum()
         disp = dX0[:, None] + da
         e_try = np.where(stick, e[m] + disp, e[m])
         x_try = np.where(stick, x[m], x[m] + disp)
