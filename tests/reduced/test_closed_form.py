@@ -52,8 +52,13 @@ def test_calibration_round_trip(s, c, n, k):
 
 @pytest.mark.parametrize(
     ("adv", "work", "word"),
-    [(120.0, None, "smaller than"), (0.0, None, "not positive"), (-1.0, None, "not positive"),
-     (82.0, -3.0, "work"), (np.inf, None, "finite")],
+    [
+        (120.0, None, "smaller than"),
+        (0.0, None, "not positive"),
+        (-1.0, None, "not positive"),
+        (82.0, -3.0, "work"),
+        (np.inf, None, "finite"),
+    ],
 )
 def test_impossible_calibrations_are_refused(adv, work, word):
     with pytest.raises(InputError, match=word):
@@ -80,8 +85,9 @@ def test_vectorised_over_a_million_designs():
 
 def test_work_equals_dissipation_in_steady_cycles():
     s, c, k = 20.0, 0.95, 0.48
-    traj_end = cf.trajectory(np.array([0.0, 0.0]), np.array([2, 3]), np.array([False, False]),
-                             s, c * k, k)
+    traj_end = cf.trajectory(
+        np.array([0.0, 0.0]), np.array([2, 3]), np.array([False, False]), s, c * k, k
+    )
     # Between the ends of cycles 2 and 3 the elastic energy is unchanged: work = dissipation.
     dW = np.diff(traj_end.work)[0]
     assert dW == pytest.approx(cf.work_later(s, c * k, k))

@@ -32,8 +32,13 @@ def _compare_with_closed_form(s_max, c, k, cycles, samples, stroke_cls=Sin2Strok
     return res, ref
 
 
-@given(s_max=st.floats(1.0, 40.0), frac=c_fraction, k=st.floats(0.05, 5.0),
-       cycles=st.integers(1, 4), samples=st.integers(2, 300))
+@given(
+    s_max=st.floats(1.0, 40.0),
+    frac=c_fraction,
+    k=st.floats(0.05, 5.0),
+    cycles=st.integers(1, 4),
+    samples=st.integers(2, 300),
+)
 def test_solver_reproduces_closed_form_at_every_sample(s_max, frac, k, cycles, samples):
     c = frac * s_max
     res, ref = _compare_with_closed_form(s_max, c, k, cycles, samples)
@@ -44,8 +49,9 @@ def test_solver_reproduces_closed_form_at_every_sample(s_max, frac, k, cycles, s
     s = res.shortening[:, 0]
     near = np.min(np.abs(s[:, None] - np.array([2 * c, 4 * c, s_max - 4 * c])), axis=1) < 1e-9
     assert np.all((res.state == ref.state).all(axis=1) | near)
-    assert res.net_advance == pytest.approx(float(closed_form.net_advance(s_max, c, cycles)),
-                                            abs=1e-9)
+    assert res.net_advance == pytest.approx(
+        float(closed_form.net_advance(s_max, c, cycles)), abs=1e-9
+    )
 
 
 @pytest.mark.parametrize("frac", [0.0475, 0.3, 0.6])  # one case per regime
@@ -191,7 +197,12 @@ def test_peristaltic_wave_direction_sets_the_difference():
 
 @pytest.mark.parametrize(
     ("kwargs", "word"),
-    [({"k": 0.0}, "k"), ({"fp": -1.0}, "F_p"), ({"fn": 0.1}, "F_n"), ({"n_bristles": 1}, "2 bristles")],
+    [
+        ({"k": 0.0}, "k"),
+        ({"fp": -1.0}, "F_p"),
+        ({"fn": 0.1}, "F_n"),
+        ({"n_bristles": 1}, "2 bristles"),
+    ],
 )
 def test_bad_crawlers_are_refused(kwargs, word):
     with pytest.raises(InputError, match=word):
@@ -205,8 +216,12 @@ def test_stroke_longer_than_the_body_is_refused():
 
 @pytest.mark.parametrize(
     ("t", "s", "word"),
-    [([0, 2, 1], [0, 1, 2], "increasing"), ([0, 1, 2], [0, np.nan, 1], "non-finite"),
-     ([0, 1], [0, -1], ">= 0"), ([0, np.inf], [0, 1], "non-finite time")],
+    [
+        ([0, 2, 1], [0, 1, 2], "increasing"),
+        ([0, 1, 2], [0, np.nan, 1], "non-finite"),
+        ([0, 1], [0, -1], ">= 0"),
+        ([0, np.inf], [0, 1], "non-finite time"),
+    ],
 )
 def test_bad_histories_are_refused(t, s, word):
     with pytest.raises(InputError, match=word):

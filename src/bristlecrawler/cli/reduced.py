@@ -22,26 +22,48 @@ from bristlecrawler.reduced.crawler import (
 
 
 def reduced_cmd(
-    s_max: Annotated[float, typer.Option("--s-max", help="peak shortening s~ per segment, mm")] = PAPER_S_MAX,
-    fp: Annotated[float, typer.Option("--fp", help="F_p, resistance along the grain, N")] = PAPER_FP,
-    fn: Annotated[float | None, typer.Option(
-        "--fn", help=f"F_n, resistance against the grain, N [default: {DEFAULT_FN_OVER_FP:g} x fp]"
-    )] = None,
+    s_max: Annotated[
+        float, typer.Option("--s-max", help="peak shortening s~ per segment, mm")
+    ] = PAPER_S_MAX,
+    fp: Annotated[
+        float, typer.Option("--fp", help="F_p, resistance along the grain, N")
+    ] = PAPER_FP,
+    fn: Annotated[
+        float | None,
+        typer.Option(
+            "--fn",
+            help=f"F_n, resistance against the grain, N [default: {DEFAULT_FN_OVER_FP:g} x fp]",
+        ),
+    ] = None,
     k: Annotated[float, typer.Option("--k", help="bristle stiffness, N/mm")] = PAPER_K,
-    length: Annotated[float, typer.Option("--length", help="distance between the end bristles, mm")] = PAPER_LENGTH,
+    length: Annotated[
+        float, typer.Option("--length", help="distance between the end bristles, mm")
+    ] = PAPER_LENGTH,
     cycles: Annotated[int, typer.Option("--cycles", help="number of strokes")] = PAPER_CYCLES,
     period: Annotated[float, typer.Option("--period", help="stroke period T, s")] = PAPER_PERIOD,
     bristles: Annotated[int, typer.Option("--bristles", help="number of bristles N (>= 2)")] = 2,
     gait: Annotated[str, typer.Option("--gait", help="breathing | peristaltic")] = "breathing",
-    lag: Annotated[float | None, typer.Option(
-        "--lag", help="peristaltic delay between neighbouring segments, s [default: period/4]"
-    )] = None,
-    stroke: Annotated[str, typer.Option("--stroke", help="sin2 | triangle (rate-independent model: same Delta(s))")] = "sin2",
-    history: Annotated[Path | None, typer.Option(
-        "--history", help="CSV with header and columns t (s), s (mm), instead of the sin^2 stroke"
-    )] = None,
+    lag: Annotated[
+        float | None,
+        typer.Option(
+            "--lag", help="peristaltic delay between neighbouring segments, s [default: period/4]"
+        ),
+    ] = None,
+    stroke: Annotated[
+        str,
+        typer.Option("--stroke", help="sin2 | triangle (rate-independent model: same Delta(s))"),
+    ] = "sin2",
+    history: Annotated[
+        Path | None,
+        typer.Option(
+            "--history",
+            help="CSV with header and columns t (s), s (mm), instead of the sin^2 stroke",
+        ),
+    ] = None,
     samples: Annotated[int, typer.Option("--samples-per-cycle", help="samples per period")] = 2000,
-    out: Annotated[Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")] = None,
+    out: Annotated[
+        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the PNG figures")] = False,
 ) -> None:
@@ -55,13 +77,30 @@ def reduced_cmd(
     from bristlecrawler.io.reduced_config import ReducedConfig
     from bristlecrawler.jobs.reduced import run_reduced
 
-    config = parse_model(ReducedConfig, {
-        "s_max": s_max, "fp": fp, "fn": fn, "k": k, "length": length, "cycles": cycles,
-        "period": period, "bristles": bristles, "gait": gait, "lag": lag, "stroke": stroke,
-        "history": None if history is None else str(history), "samples_per_cycle": samples,
-    })
-    run = run_reduced(config, out=out, figures=not no_figures,
-                      command="bristlecrawler " + shlex.join(sys.argv[1:]))
+    config = parse_model(
+        ReducedConfig,
+        {
+            "s_max": s_max,
+            "fp": fp,
+            "fn": fn,
+            "k": k,
+            "length": length,
+            "cycles": cycles,
+            "period": period,
+            "bristles": bristles,
+            "gait": gait,
+            "lag": lag,
+            "stroke": stroke,
+            "history": None if history is None else str(history),
+            "samples_per_cycle": samples,
+        },
+    )
+    run = run_reduced(
+        config,
+        out=out,
+        figures=not no_figures,
+        command="bristlecrawler " + shlex.join(sys.argv[1:]),
+    )
     if as_json:
         typer.echo(json.dumps(run.summary))
         return
@@ -78,11 +117,15 @@ def _print_summary(summary: dict) -> None:
     table.add_row("net advance (mm)", f"{summary['net_advance_mm']:.4f}")
     if "closed_form_net_advance_mm" in summary:
         table.add_row("  closed form (mm)", f"{summary['closed_form_net_advance_mm']:.4f}")
-    table.add_row("advance per cycle (mm)", ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"]))
+    table.add_row(
+        "advance per cycle (mm)", ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"])
+    )
     table.add_row("actuator work (mJ)", f"{summary['work_mJ']:.4f}")
     if "closed_form_work_mJ" in summary:
         table.add_row("  closed form (mJ)", f"{summary['closed_form_work_mJ']:.4f}")
-    table.add_row("work per cycle (mJ)", ", ".join(f"{w:.3f}" for w in summary["work_per_cycle_mJ"]))
+    table.add_row(
+        "work per cycle (mJ)", ", ".join(f"{w:.3f}" for w in summary["work_per_cycle_mJ"])
+    )
     if "regime" in summary:
         table.add_row("regime", str(summary["regime"]))
     table.add_row("energy balance, rel. error", f"{summary['energy_balance_rel_error']:.1e}")
@@ -97,7 +140,9 @@ def calibrate_cmd(
     s_max: Annotated[float, typer.Option("--s-max", help="peak shortening s~, mm")],
     cycles: Annotated[int, typer.Option("--cycles", help="number of cycles n")],
     advance: Annotated[float, typer.Option("--advance", help="net advance after n cycles, mm")],
-    work: Annotated[float | None, typer.Option("--work", help="actuator work over n cycles, mJ")] = None,
+    work: Annotated[
+        float | None, typer.Option("--work", help="actuator work over n cycles, mJ")
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="print JSON on stdout")] = False,
 ) -> None:
     """Calibrate F_p/k (and, with --work, F_p and k) from a measured gait (paper Section 4)."""

@@ -32,32 +32,62 @@ def reduced_dataset(result: ReducedResult, attrs: dict[str, Any] | None = None) 
     ev = result.events
     ds = xr.Dataset(
         data_vars={
-            "segment_shortening": (("time", "segment"), result.shortening,
-                                   {"units": "mm", "long_name": "segment shortening s_j(t)"}),
-            "s": ("time", result.shortening.sum(axis=1),
-                  {"units": "mm", "long_name": "body shortening (sum over segments)"}),
-            "delta": ("time", result.delta,
-                      {"units": "mm", "long_name": "front-end displacement Delta(t)"}),
-            "rear_displacement": ("time", result.rear_displacement,
-                                  {"units": "mm", "long_name": "rear-end displacement"}),
-            "attachment_position": (("time", "bristle"), result.X,
-                                    {"units": "mm", "long_name": "bristle attachment position X_i"}),
-            "tip_position": (("time", "bristle"), result.x,
-                             {"units": "mm", "long_name": "bristle tip position x_i (offset removed)"}),
-            "force": (("time", "bristle"), result.force,
-                      {"units": "N", "long_name": "horizontal force F_i on the crawler"}),
-            "state": (("time", "bristle"), result.state,
-                      {"long_name": "stick/slip state over the preceding interval",
-                       "flag_values": np.array([-1, 0, 1], dtype=np.int8),
-                       "flag_meanings": "slip_backward stick slip_forward"}),
+            "segment_shortening": (
+                ("time", "segment"),
+                result.shortening,
+                {"units": "mm", "long_name": "segment shortening s_j(t)"},
+            ),
+            "s": (
+                "time",
+                result.shortening.sum(axis=1),
+                {"units": "mm", "long_name": "body shortening (sum over segments)"},
+            ),
+            "delta": (
+                "time",
+                result.delta,
+                {"units": "mm", "long_name": "front-end displacement Delta(t)"},
+            ),
+            "rear_displacement": (
+                "time",
+                result.rear_displacement,
+                {"units": "mm", "long_name": "rear-end displacement"},
+            ),
+            "attachment_position": (
+                ("time", "bristle"),
+                result.X,
+                {"units": "mm", "long_name": "bristle attachment position X_i"},
+            ),
+            "tip_position": (
+                ("time", "bristle"),
+                result.x,
+                {"units": "mm", "long_name": "bristle tip position x_i (offset removed)"},
+            ),
+            "force": (
+                ("time", "bristle"),
+                result.force,
+                {"units": "N", "long_name": "horizontal force F_i on the crawler"},
+            ),
+            "state": (
+                ("time", "bristle"),
+                result.state,
+                {
+                    "long_name": "stick/slip state over the preceding interval",
+                    "flag_values": np.array([-1, 0, 1], dtype=np.int8),
+                    "flag_meanings": "slip_backward stick slip_forward",
+                },
+            ),
             "elastic_energy": ("time", result.elastic_energy, {"units": "mJ"}),
-            "dissipation": ("time", result.dissipation,
-                            {"units": "mJ", "long_name": "cumulative frictional dissipation"}),
-            "work": ("time", result.work,
-                     {"units": "mJ", "long_name": "cumulative actuator work"}),
-            "energy_balance_residual": ("time",
-                                        result.work - result.elastic_energy - result.dissipation,
-                                        {"units": "mJ", "long_name": "W - E_el - D"}),
+            "dissipation": (
+                "time",
+                result.dissipation,
+                {"units": "mJ", "long_name": "cumulative frictional dissipation"},
+            ),
+            "work": ("time", result.work, {"units": "mJ", "long_name": "cumulative actuator work"}),
+            "energy_balance_residual": (
+                "time",
+                result.work - result.elastic_energy - result.dissipation,
+                {"units": "mJ", "long_name": "W - E_el - D"},
+            ),
             "k": ("bristle", c.k, {"units": "N/mm"}),
             "fp": ("bristle", c.fp, {"units": "N", "long_name": "F_p (along the grain)"}),
             "fn": ("bristle", c.fn, {"units": "N", "long_name": "F_n (against the grain)"}),
@@ -76,6 +106,7 @@ def reduced_dataset(result: ReducedResult, attrs: dict[str, Any] | None = None) 
         attrs={"model": "bristlecrawler reduced 1-D model", "units": "mm, N, s, mJ"},
     )
     if attrs:
-        ds.attrs.update({k: (v if isinstance(v, int | float | str) else str(v))
-                         for k, v in attrs.items()})
+        ds.attrs.update(
+            {k: (v if isinstance(v, int | float | str) else str(v)) for k, v in attrs.items()}
+        )
     return ds

@@ -22,27 +22,39 @@ class ReducedConfig(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    s_max: float = Field(PAPER_S_MAX, gt=0, allow_inf_nan=False,
-                         description="peak shortening s~ of each segment, mm")
-    fp: float = Field(PAPER_FP, gt=0, allow_inf_nan=False,
-                      description="F_p, resistance along the grain, N")
-    fn: float | None = Field(None, gt=0, allow_inf_nan=False,
-                             description=f"F_n, resistance against the grain, N "
-                                         f"(default {DEFAULT_FN_OVER_FP:g} F_p)")
+    s_max: float = Field(
+        PAPER_S_MAX, gt=0, allow_inf_nan=False, description="peak shortening s~ of each segment, mm"
+    )
+    fp: float = Field(
+        PAPER_FP, gt=0, allow_inf_nan=False, description="F_p, resistance along the grain, N"
+    )
+    fn: float | None = Field(
+        None,
+        gt=0,
+        allow_inf_nan=False,
+        description=f"F_n, resistance against the grain, N (default {DEFAULT_FN_OVER_FP:g} F_p)",
+    )
     k: float = Field(PAPER_K, gt=0, allow_inf_nan=False, description="bristle stiffness, N/mm")
-    length: float = Field(PAPER_LENGTH, gt=0, allow_inf_nan=False,
-                          description="distance between first and last bristle, mm")
+    length: float = Field(
+        PAPER_LENGTH,
+        gt=0,
+        allow_inf_nan=False,
+        description="distance between first and last bristle, mm",
+    )
     cycles: int = Field(PAPER_CYCLES, ge=1, le=100_000, description="number of strokes")
     period: float = Field(PAPER_PERIOD, gt=0, allow_inf_nan=False, description="stroke period T, s")
     bristles: int = Field(2, ge=2, le=10_000, description="number of bristles N")
     gait: Literal["breathing", "peristaltic"] = "breathing"
-    lag: float | None = Field(None, allow_inf_nan=False,
-                              description="peristaltic delay between neighbouring segments, s "
-                                          "(default period / 4)")
+    lag: float | None = Field(
+        None,
+        allow_inf_nan=False,
+        description="peristaltic delay between neighbouring segments, s (default period / 4)",
+    )
     stroke: Literal["sin2", "triangle"] = "sin2"
     history: str | None = Field(None, description="CSV file with columns t (s) and s (mm)")
-    samples_per_cycle: int = Field(2000, ge=2, le=10_000_000,
-                                   description="samples per period of an analytic stroke")
+    samples_per_cycle: int = Field(
+        2000, ge=2, le=10_000_000, description="samples per period of an analytic stroke"
+    )
 
     @model_validator(mode="after")
     def _consistent(self) -> ReducedConfig:

@@ -7,7 +7,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-
 from bristlecrawler.io.reduced_config import ReducedConfig
 from bristlecrawler.reduced import closed_form as cf
 from bristlecrawler.reduced.crawler import ReducedCrawler
@@ -67,7 +66,9 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
         out["closed_form_net_advance_mm"] = float(
             cf.net_advance(config.s_max, config.fp / config.k, config.cycles)
         )
-        out["closed_form_work_mJ"] = float(cf.work(config.s_max, config.fp, config.k, config.cycles))
+        out["closed_form_work_mJ"] = float(
+            cf.work(config.s_max, config.fp, config.k, config.cycles)
+        )
     return out
 
 
@@ -101,8 +102,10 @@ def run_reduced(
     if figures:
         from bristlecrawler.viz.reduced import plot_delta_vs_s, plot_friction_law, save_figure
 
-        title = (f"reduced model: N={crawler.n_bristles}, {config.gait}, "
-                 f"F_p/k={config.fp / config.k:.3g} mm, net {result.net_advance:.2f} mm")
+        title = (
+            f"reduced model: N={crawler.n_bristles}, {config.gait}, "
+            f"F_p/k={config.fp / config.k:.3g} mm, net {result.net_advance:.2f} mm"
+        )
         save_figure(plot_delta_vs_s(result, title=title), out_dir / "delta_vs_s.png")
         save_figure(plot_friction_law(crawler.friction(0)), out_dir / "friction_law.png")
     summary = summary | {"output_dir": str(out_dir)}

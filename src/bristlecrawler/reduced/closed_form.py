@@ -29,7 +29,9 @@ NO_SLIDING, FIRST_CONTRACTION_ONLY, STEADY_SLIDING = 1, 2, 3
 def regime(s_max, fp_over_k):
     """Regime (1, 2 or 3, see module doc) of peak shortening ``s_max`` (mm), ``F_p/k`` (mm)."""
     s, c = np.broadcast_arrays(np.asarray(s_max, float), np.asarray(fp_over_k, float))
-    return np.where(s <= 2 * c, NO_SLIDING, np.where(s <= 4 * c, FIRST_CONTRACTION_ONLY, STEADY_SLIDING))
+    return np.where(
+        s <= 2 * c, NO_SLIDING, np.where(s <= 4 * c, FIRST_CONTRACTION_ONLY, STEADY_SLIDING)
+    )
 
 
 def net_advance_first(s_max, fp_over_k):
@@ -55,7 +57,9 @@ def work_first(s_max, fp, k):
     s, fp, k = np.asarray(s_max, float), np.asarray(fp, float), np.asarray(k, float)
     c = fp / k
     return np.where(
-        s <= 2 * c, 0.0, np.where(s <= 4 * c, k * (0.25 * s**2 - c**2), fp * c + 2 * fp * (s - 3 * c))
+        s <= 2 * c,
+        0.0,
+        np.where(s <= 4 * c, k * (0.25 * s**2 - c**2), fp * c + 2 * fp * (s - 3 * c)),
     )
 
 

@@ -62,8 +62,7 @@ def simulate(
     gait = stroke if isinstance(stroke, Gait) else breathing(stroke, crawler.n_bristles - 1)
     if gait.n_segments != crawler.n_bristles - 1:
         raise InputError(
-            f"gait drives {gait.n_segments} segments but the crawler has "
-            f"{crawler.n_bristles - 1}"
+            f"gait drives {gait.n_segments} segments but the crawler has {crawler.n_bristles - 1}"
         )
     crawler.check_stroke(gait.stroke.s_max)
     t = gait.sample_times(int(cycles), int(samples_per_cycle))

@@ -188,6 +188,7 @@ class _Stepper:
         ftol = 1e-13 * float(k.sum()) * max(float(np.abs(da).max()), 1.0)
         lo, hi = _zero_set(lambda v: edot_of(v) @ k, bps, ftol)
         if hi - lo > tol:
+
             def xdot_of(v: np.ndarray) -> np.ndarray:
                 return v[:, None] + da - edot_of(v)
 
@@ -199,7 +200,18 @@ class _Stepper:
         return v, edot, v + da - edot
 
     def mode(self, xdot: np.ndarray) -> np.ndarray:
-        return np.where(xdot > self.tol, SLIP_FORWARD, np.where(xdot < -self.tol, SLIP_BACKWARD, STICK))
+        return np.where(
+            xdot > self.tol, SLIP_FORWARD, np.where(xdot < -self.tol, SLIP_BACKWARD, STICK)
+        )
+
+    def time_to_yield(self, e: np.ndarray, edot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Parameter increments after which each spring reaches its forward / backward yield
+        elongation at rate ``edot`` (inf where it never does)."""
+        tol = self.tol
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up = np.where((edot > 0) & (e < self.upper - tol), (self.upper - e) / edot, np.inf)
+            lo = np.where((edot < 0) & (e > self.lower + tol), (self.lower - e) / edot, np.inf)
+        return up, lo
 
     def interval(self, e, x, X0, da, t0, t1, prev_mode, events):
         """Integrate one interval event by event. Returns e, x, X0, mode, dW, dD."""
@@ -210,11 +222,11 @@ class _Stepper:
             v, edot, xdot = self.rate(e, da)
             new_mode = self.mode(xdot)
             for i in np.flatnonzero(new_mode != mode):
-                events.append(Event(float(t0 + tau0 * (t1 - t0)), int(i), int(mode[i]), int(new_mode[i])))
+                events.append(
+                    Event(float(t0 + tau0 * (t1 - t0)), int(i), int(mode[i]), int(new_mode[i]))
+                )
             mode = new_mode
-            with np.errstate(divide="ignore", invalid="ignore"):
-                up = np.where((edot > 0) & (e < self.upper - self.tol), (self.upper - e) / edot, np.inf)
-                lo = np.where((edot < 0) & (e > self.lower + self.tol), (self.lower - e) / edot, np.inf)
+            up, lo = self.time_to_yield(e, edot)
             hit = np.minimum(up, lo)
             i_hit = int(np.argmin(hit))
             yielded = float(hit[i_hit]) <= remaining
@@ -288,10 +300,8 @@ def solve(
     m, chunk = 0, 64
     while m < M - 1:
         da0 = a[m + 1] - a[m]
-        v, edot, xdot = st.rate(e[m], da0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            up = np.where((edot > 0) & (e[m] < st.upper - tol), (st.upper - e[m]) / edot, np.inf)
-            lo = np.where((edot < 0) & (e[m] > st.lower + tol), (st.lower - e[m]) / edot, np.inf)
+        _, edot, xdot = st.rate(e[m], da0)
+        up, lo = st.time_to_yield(e[m], edot)
         if min(up.min(), lo.min()) < 1.0:
             em, xm, X0m, mode, dW, dD = st.interval(
                 e[m].copy(), x[m].copy(), X0[m], da0, t[m], t[m + 1], mode, events

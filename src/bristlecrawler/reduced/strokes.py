@@ -36,7 +36,9 @@ class Sin2Stroke:
     period: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "s_max", _check_positive("s_max (peak shortening, mm)", self.s_max))
+        object.__setattr__(
+            self, "s_max", _check_positive("s_max (peak shortening, mm)", self.s_max)
+        )
         object.__setattr__(self, "period", _check_positive("period (s)", self.period))
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
@@ -132,7 +134,9 @@ def read_history_csv(path: str) -> SampledStroke:
         raise InputError(f"history file not found: {path}")
     try:
         with open(path, newline="", encoding="utf-8") as fh:
-            reader = csv.reader(row for row in fh if row.strip() and not row.lstrip().startswith("#"))
+            reader = csv.reader(
+                row for row in fh if row.strip() and not row.lstrip().startswith("#")
+            )
             header = next(reader, None)
             if header is None:
                 raise InputError(f"history file {path} is empty")
@@ -151,7 +155,8 @@ def read_history_csv(path: str) -> SampledStroke:
                     s.append(float(row[is_]))
                 except (ValueError, IndexError):
                     raise InputError(
-                        f"history file {path}, data row {lineno - 1}: cannot read t and s from {row}"
+                        f"history file {path}, data row {lineno - 1}: "
+                        f"cannot read t and s from {row}"
                     ) from None
     except UnicodeDecodeError:
         raise InputError(f"history file {path} is not a UTF-8 text CSV file") from None

@@ -89,10 +89,18 @@ def plot_friction_law(law: DirectionalFriction, ax: Axes | None = None, vmax: fl
     ax.plot([0.0, vmax], [-law.fp, -law.fp], color="k", lw=2)
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.axvline(0.0, color="0.6", lw=0.8)
-    ax.annotate(rf"$F_n$ = {law.fn:.3g} N", (-0.95 * vmax, law.fn), xytext=(0, 6),
-                textcoords="offset points")
-    ax.annotate(rf"$-F_p$ = {-law.fp:.3g} N", (0.35 * vmax, -law.fp), xytext=(0, -14),
-                textcoords="offset points")
+    ax.annotate(
+        rf"$F_n$ = {law.fn:.3g} N",
+        (-0.95 * vmax, law.fn),
+        xytext=(0, 6),
+        textcoords="offset points",
+    )
+    ax.annotate(
+        rf"$-F_p$ = {-law.fp:.3g} N",
+        (0.35 * vmax, -law.fp),
+        xytext=(0, -14),
+        textcoords="offset points",
+    )
     ax.set_xlabel(r"tip sliding velocity $\dot x_i$ (arbitrary scale)")
     ax.set_ylabel(r"force on the crawler $F_i$ (N)")
     ax.set_title("directional friction law")

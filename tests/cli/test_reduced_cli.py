@@ -1,0 +1,193 @@
+"""``bristlecrawler reduced`` / ``calibrate``: outputs, JSON summaries, and bad input."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from bristlecrawler.cli.app import main
+from bristlecrawler.reduced import closed_form
+
+
+def run_cli(args, capsys):
+    try:
+        main(args)
+        code = 0
+    except SystemExit as exc:
+        code = exc.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_reduced_paper_case_writes_everything(tmp_path, capsys):
+    out = tmp_path / "run"
+    code, stdout, _ = run_cli(["reduced", "--json", "--out", str(out)], capsys)
+    assert code == 0
+    summary = json.loads(stdout)
+    expected = float(closed_form.net_advance(20.0, 0.95, 5))
+    assert summary["net_advance_mm"] == pytest.approx(expected, abs=1e-9)
+    assert len(summary["advance_per_cycle_mm"]) == 5
+    assert sum(summary["work_per_cycle_mJ"]) == pytest.approx(summary["work_mJ"])
+    assert summary["work_mJ"] == pytest.approx(closed_form.work(20.0, 0.456, 0.48, 5))
+    for name in (
+        "reduced.nc",
+        "delta_vs_s.png",
+        "friction_law.png",
+        "summary.json",
+        "config.json",
+        "meta.json",
+    ):
+        assert (out / name).stat().st_size > 0, name
+    meta = json.loads((out / "meta.json").read_text())
+    assert meta["package_version"] and meta["git_revision"]
+
+    import xarray as xr
+
+    with xr.open_dataset(out / "reduced.nc") as ds:
+        assert ds["delta"].attrs["units"] == "mm"
+        assert float(ds["delta"][-1]) == pytest.approx(expected, abs=1e-9)
+        np.testing.assert_allclose(ds["energy_balance_residual"], 0.0, atol=1e-10)
+        assert set(np.unique(ds["state"].values)) <= {-1, 0, 1}
+        assert ds.sizes["event"] == summary["events"]
+
+
+def test_reduced_with_history_file(tmp_path, capsys):
+    hist = tmp_path / "h.csv"
+    hist.write_text("t,s\n0,0\n1,15\n2,5\n3,20\n4,0\n")
+    code, stdout, _ = run_cli(
+        ["reduced", "--history", str(hist), "--json", "--no-figures", "--out", str(tmp_path / "o")],
+        capsys,
+    )
+    assert code == 0
+    s = json.loads(stdout)
+    # Cycles are excursions from s = 0: here a single one.
+    assert len(s["advance_per_cycle_mm"]) == 1
+    assert s["energy_balance_rel_error"] < 1e-9
+
+
+def test_ten_bristle_peristaltic_run(tmp_path, capsys):
+    code, stdout, _ = run_cli(
+        [
+            "reduced",
+            "--bristles",
+            "10",
+            "--s-max",
+            "8",
+            "--gait",
+            "peristaltic",
+            "--lag",
+            "2",
+            "--json",
+            "--no-figures",
+            "--out",
+            str(tmp_path / "o"),
+        ],
+        capsys,
+    )
+    assert code == 0
+    assert json.loads(stdout)["bristles"] == 10
+
+
+def test_calibrate_json(capsys):
+    code, stdout, _ = run_cli(
+        [
+            "calibrate",
+            "--s-max",
+            "20",
+            "--cycles",
+            "5",
+            "--advance",
+            "82",
+            "--work",
+            "75",
+            "--json",
+        ],
+        capsys,
+    )
+    assert code == 0
+    d = json.loads(stdout)
+    assert d["fp_over_k_mm"] == pytest.approx(0.947, abs=1e-3)
+    assert d["fp_N"] == pytest.approx(0.455, abs=1e-3)
+    assert d["k_N_per_mm"] == pytest.approx(0.480, abs=1e-3)
+
+
+BAD = [
+    (["reduced", "--k", "0"], "k"),
+    (["reduced", "--fp", "-1"], "fp"),
+    (["reduced", "--fn", "0.1"], "fn"),
+    (["reduced", "--s-max", "-2"], "s_max"),
+    (["reduced", "--s-max", "100"], "s_max"),
+    (["reduced", "--bristles", "1"], "bristles"),
+    (["reduced", "--gait", "gallop"], "gait"),
+    (["reduced", "--k", "abc"], "--k"),
+    (["reduced", "--s-max", "nan"], "s_max"),
+    (["reduced", "--history", "missing.csv"], "missing.csv"),
+    (["calibrate", "--s-max", "20", "--cycles", "5", "--advance", "101"], "advance"),
+    (["calibrate", "--s-max", "20", "--cycles", "5", "--advance", "82", "--work", "0"], "work"),
+]
+
+
+@pytest.mark.parametrize(("args", "word"), BAD)
+def test_bad_input_one_line_exit_2_nothing_written(args, word, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    extra = ["--out", str(tmp_path / "o")] if args[0] == "reduced" else []
+    code, _, stderr = run_cli(args + extra, capsys)
+    assert code == 2
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and word in lines[0]
+    assert not (tmp_path / "o").exists() and not (tmp_path / "runs").exists()
+
+
+@pytest.mark.parametrize(
+    ("content", "word"),
+    [
+        ("t,x\n0,0\n1,1\n", "lacks column"),
+        ("t,s\n0,0\n1,nan\n", "non-finite"),
+        ("t,s\n0,0\n2,1\n1,2\n", "increasing"),
+        ("t,s\n0,0\n1,-2\n", ">= 0"),
+        ("t,s\n0,0\n1,abc\n", "cannot read"),
+        ("", "empty"),
+    ],
+)
+def test_bad_history_files(content, word, tmp_path, capsys):
+    f = tmp_path / "h.csv"
+    f.write_text(content)
+    code, _, stderr = run_cli(
+        ["reduced", "--history", str(f), "--out", str(tmp_path / "o")], capsys
+    )
+    assert code == 2 and word in stderr and len(stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()
+
+
+def test_failed_run_leaves_previous_results_intact(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert run_cli(["reduced", "--json", "--no-figures", "--out", str(out)], capsys)[0] == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert run_cli(["reduced", "--k", "-1", "--out", str(out)], capsys)[0] == 2
+    after = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert before == after
+
+
+def test_console_script_entry_point():
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "bristlecrawler.cli.app",
+            "calibrate",
+            "--s-max",
+            "20",
+            "--cycles",
+            "5",
+            "--advance",
+            "82",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0
+    assert json.loads(proc.stdout)["fp_over_k_mm"] == pytest.approx(18 / 19)
