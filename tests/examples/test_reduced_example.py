@@ -3,6 +3,7 @@
 import importlib.util
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -25,3 +26,12 @@ def test_calibrated_crawler_reproduces_the_measurements():
     assert ex.advance_per_cycle[0] - ex.advance_per_cycle[1] == pytest.approx(
         ex.calibration.fp_over_k_mm
     )
+
+
+def test_sma_example_gait_follows_the_turning_points():
+    ex = load("sma_actuated_gait")
+    adv, _ = ex.sma_gait.per_cycle()
+    assert len(adv) == 5
+    # Rate independence: each steady cycle advances by (peak - rest - 4 F_p/k).
+    np.testing.assert_allclose(adv[1:], ex.predicted_steady, atol=1e-9)
+    assert 15.0 < ex.response.cycle_durations[0] < 25.0

@@ -33,9 +33,10 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import reduced
+    from bristlecrawler.cli import experiment, reduced
 
     reduced.register(app)
+    experiment.register(app)
 
 
 _register()

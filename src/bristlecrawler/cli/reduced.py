@@ -53,6 +53,9 @@ def reduced_cmd(
         str,
         typer.Option("--stroke", help="sin2 | triangle (rate-independent model: same Delta(s))"),
     ] = "sin2",
+    actuator: Annotated[
+        str, typer.Option("--actuator", help="sin2 (prescribed) | sma (closed-loop SMA model)")
+    ] = "sin2",
     history: Annotated[
         Path | None,
         typer.Option(
@@ -91,6 +94,7 @@ def reduced_cmd(
             "gait": gait,
             "lag": lag,
             "stroke": stroke,
+            "actuator": actuator,
             "history": None if history is None else str(history),
             "samples_per_cycle": samples,
         },

@@ -51,6 +51,11 @@ class ReducedConfig(BaseModel):
         description="peristaltic delay between neighbouring segments, s (default period / 4)",
     )
     stroke: Literal["sin2", "triangle"] = "sin2"
+    actuator: Literal["sin2", "sma"] = Field(
+        "sin2",
+        description="prescribed stroke, or the closed-loop SMA actuator model with "
+        "target s_max (then period is not used)",
+    )
     history: str | None = Field(None, description="CSV file with columns t (s) and s (mm)")
     samples_per_cycle: int = Field(
         2000, ge=2, le=10_000_000, description="samples per period of an analytic stroke"
@@ -62,6 +67,8 @@ class ReducedConfig(BaseModel):
         if fn < self.fp:
             raise ValueError(f"fn ({fn:g} N) must be >= fp ({self.fp:g} N)")
         seg = self.length / (self.bristles - 1)
+        if self.history is not None and self.actuator == "sma":
+            raise ValueError("give either a history file or actuator = 'sma', not both")
         if self.history is None and self.s_max >= seg:
             what = "length L" if self.bristles == 2 else f"segment length L/(N-1) = {seg:g} mm"
             raise ValueError(f"s_max ({self.s_max:g} mm) must be smaller than the {what}")

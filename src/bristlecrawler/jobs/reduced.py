@@ -33,6 +33,11 @@ def build(config: ReducedConfig):
     if config.history is not None:
         stroke = read_history_csv(config.history)
         crawler.check_stroke(stroke.s_max)
+    elif config.actuator == "sma":
+        from bristlecrawler.experiment.sma import SMAActuator, run_sma
+
+        stroke = run_sma(SMAActuator(s_target=config.s_max), config.cycles).stroke()
+        crawler.check_stroke(stroke.s_max)
     else:
         cls = Sin2Stroke if config.stroke == "sin2" else TriangleStroke
         stroke = cls(config.s_max, config.period)
@@ -61,7 +66,7 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
         "samples": int(result.t.size),
         "events": len(result.events),
     }
-    if config.bristles == 2 and config.history is None:
+    if config.bristles == 2 and config.history is None and config.actuator == "sin2":
         out["regime"] = int(cf.regime(config.s_max, config.fp / config.k))
         out["closed_form_net_advance_mm"] = float(
             cf.net_advance(config.s_max, config.fp / config.k, config.cycles)

@@ -12,16 +12,22 @@ from bristlecrawler.reduced.strokes import SampledStroke, Stroke
 
 
 def _excursion_bounds(s: np.ndarray) -> np.ndarray:
-    """Sample indices where excursions from the initial shortening start and end."""
-    tol = 1e-9 * max(float(np.abs(s).max()), 1.0)
+    """Sample indices where strokes start and end: a stroke rises above half of the range
+    and ends at the first local minimum within 2 % of the range of the initial level."""
     base = s[0]
-    bounds, away = [0], False
-    for j in range(1, s.size):
-        if s[j] > base + tol:
+    span = float(s.max() - base)
+    if span <= 0:
+        return np.array([0, s.size - 1])
+    bounds, away, j = [0], False, 1
+    while j < s.size:
+        if not away and s[j] > base + 0.5 * span:
             away = True
-        elif away:
+        elif away and s[j] <= base + 0.02 * span:
+            while j + 1 < s.size and s[j + 1] <= s[j]:
+                j += 1
             bounds.append(j)
             away = False
+        j += 1
     if bounds[-1] != s.size - 1:
         bounds.append(s.size - 1)
     return np.asarray(bounds, dtype=int)

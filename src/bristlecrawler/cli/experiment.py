@@ -1,0 +1,149 @@
+"""``bristlecrawler analyze`` and ``bristlecrawler synth-recording``: the experiment side."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def analyze_cmd(
+    recording: Annotated[Path, typer.Argument(help="CSV or TDMS file of the two transducers")],
+    work: Annotated[
+        float | None, typer.Option("--work", help="actuator work over the analysed cycles, mJ")
+    ] = None,
+    time_col: Annotated[
+        str, typer.Option("--time", help="time column/channel (s); absent -> uniform at --rate")
+    ] = "time_s",
+    left_col: Annotated[
+        str, typer.Option("--left", help="left (rear) end displacement column, mm")
+    ] = "left_mm",
+    right_col: Annotated[
+        str, typer.Option("--right", help="right (front) end displacement column, mm")
+    ] = "right_mm",
+    force_col: Annotated[
+        str, typer.Option("--force", help="connector force column, N (used if present)")
+    ] = "force_N",
+    flip_left: Annotated[bool, typer.Option("--flip-left", help="negate the left channel")] = False,
+    flip_right: Annotated[
+        bool, typer.Option("--flip-right", help="negate the right channel")
+    ] = False,
+    rate: Annotated[
+        float, typer.Option("--rate", help="sample rate without a time column, samples/s")
+    ] = 100.0,
+    group: Annotated[
+        str | None, typer.Option("--group", help="TDMS group [default: first]")
+    ] = None,
+    max_gap: Annotated[float, typer.Option("--max-gap", help="longest dropout bridged, s")] = 0.5,
+    out: Annotated[
+        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
+    ] = None,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="print the summary as JSON on stdout")
+    ] = False,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the figure")] = False,
+) -> None:
+    """Analyse a recording: cycles, per-cycle advance, stick/slip transitions, fitted F_p/k
+    with a bootstrap interval (and F_p, k with --work or a force channel)."""
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.experiment import ChannelMap, analyze, read_recording
+    from bristlecrawler.io.atomic import atomic_write_text
+    from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
+
+    if work is not None and not (work > 0 and work < float("inf")):
+        raise InputError(f"--work must be a positive number of mJ, got {work}")
+    if not max_gap > 0:
+        raise InputError(f"--max-gap must be positive, got {max_gap}")
+    cmap = ChannelMap(
+        time=time_col,
+        left=left_col,
+        right=right_col,
+        force=force_col,
+        left_sign=-1.0 if flip_left else 1.0,
+        right_sign=-1.0 if flip_right else 1.0,
+        rate_hz=rate,
+        group=group,
+    )
+    rec = read_recording(recording, cmap)
+    result = analyze(rec, work_mJ=work, max_gap_s=max_gap)
+    summary = result.summary() | {"recording": str(recording)}
+    run_dir = prepare_run_dir(out, "analyze")
+    write_run_metadata(
+        run_dir,
+        {
+            "recording": str(recording),
+            "channels": cmap.__dict__,
+            "work_mJ": work,
+            "max_gap_s": max_gap,
+        },
+        "bristlecrawler " + shlex.join(sys.argv[1:]),
+    )
+    atomic_write_text(run_dir / "analysis.json", json.dumps(summary, indent=2) + "\n")
+    if not no_figures:
+        from bristlecrawler.viz.experiment import plot_analysis
+        from bristlecrawler.viz.reduced import save_figure
+
+        save_figure(plot_analysis(result), run_dir / "analysis.png")
+    summary["output_dir"] = str(run_dir)
+    if as_json:
+        typer.echo(json.dumps(summary))
+        return
+    ci = summary["fp_over_k_ci_mm"]
+    typer.echo(f"{summary['cycles']} cycles, net advance {summary['net_advance_mm']:.2f} mm")
+    typer.echo(
+        "advance per cycle (mm): " + ", ".join(f"{a:.2f}" for a in summary["advance_per_cycle_mm"])
+    )
+    ci_txt = "n/a" if ci[0] is None else f"[{ci[0]:.3f}, {ci[1]:.3f}]"
+    c = summary["fp_over_k_mm"]
+    typer.echo(
+        f"F_p/k = {'n/a' if c is None else f'{c:.3f}'} mm, 95% CI {ci_txt} "
+        f"(from net advance: {summary['fp_over_k_from_advance_mm']:.3f} mm)"
+    )
+    if "fp_N" in summary:
+        typer.echo(f"F_p = {summary['fp_N']:.3f} N, k = {summary['k_N_per_mm']:.3f} N/mm")
+    for note in summary["notes"]:
+        typer.echo(f"note: {note}")
+    typer.echo(f"results in {run_dir}")
+
+
+def synth_cmd(
+    path: Annotated[Path, typer.Argument(help="output file, .csv or .tdms")],
+    actuator: Annotated[str, typer.Option("--actuator", help="sma | sin2")] = "sma",
+    cycles: Annotated[int, typer.Option("--cycles", help="number of cycles")] = 5,
+    fp: Annotated[float, typer.Option("--fp", help="F_p, N")] = 0.456,
+    k: Annotated[float, typer.Option("--k", help="bristle stiffness, N/mm")] = 0.48,
+    noise: Annotated[float, typer.Option("--noise", help="sensor noise, mm (std)")] = 0.01,
+    skip: Annotated[float, typer.Option("--skip", help="seconds cut from the start")] = 0.0,
+    seed: Annotated[int, typer.Option("--seed", help="random seed")] = 0,
+) -> None:
+    """Write a synthetic recording made by the reduced model with sensor artefacts."""
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.experiment import SensorModel, synthetic_recording, write_csv, write_tdms
+    from bristlecrawler.reduced import ReducedCrawler
+
+    ext = path.suffix.lower()
+    if ext not in (".csv", ".tdms"):
+        raise InputError(f"output must end in .csv or .tdms, got '{path.name}'")
+    if cycles < 1:
+        raise InputError(f"--cycles must be >= 1, got {cycles}")
+    if not (noise >= 0 and skip >= 0):
+        raise InputError("--noise and --skip must be >= 0")
+    crawler = ReducedCrawler.two_bristle(fp=fp, k=k)
+    rec = synthetic_recording(
+        crawler,
+        actuator=actuator,
+        cycles=cycles,
+        sensor=SensorModel(noise_mm=noise, skip_s=skip),
+        seed=seed,
+    )
+    (write_tdms if ext == ".tdms" else write_csv)(rec, path)
+    typer.echo(f"wrote {path} ({rec.t.size} samples, {rec.duration:.1f} s)")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("analyze")(analyze_cmd)
+    app.command("synth-recording")(synth_cmd)
