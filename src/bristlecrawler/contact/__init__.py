@@ -1,0 +1,84 @@
+"""Frictional contact with rigid analytic substrates (2-D): geometry and constitutive kernels.
+
+Public API (units: mm, N, s, mJ; everything float64 JAX, pure, jit/vmap/grad-able):
+
+* substrates (frozen PyTree dataclasses, parameters as leaves): :class:`Flat`,
+  :class:`Grooves`, :class:`Sawtooth`, :class:`Polyline`, their common form
+  :class:`PeriodicProfile`; :data:`PAPER_GROOVES`, :data:`PAPER_MU`.
+* geometry: :func:`project` -> :class:`Projection` (gap, normal, tangent, closest point,
+  arc length), :func:`gap`, :func:`project_points` (jitted, many points).
+* Coulomb kernel: :class:`CoulombLaw`, :func:`return_map` -> :class:`CoulombStep`,
+  :func:`incremental_potential`, :func:`generalized_forces`, :func:`normal_force`,
+  :func:`normal_energy`, :func:`friction_potential`; states :data:`OPEN`, :data:`STICK`,
+  :data:`SLIP`; :data:`PAPER_TIP_LOAD`.
+* contact node on a substrate: :func:`node_potential`, :func:`node_force`, :func:`node_step`.
+* TOML/pydantic edge: :func:`parse_substrate` and the ``*Config`` models.
+"""
+
+from bristlecrawler.contact.coulomb import (
+    OPEN,
+    PAPER_TIP_LOAD,
+    SLIP,
+    STICK,
+    CoulombLaw,
+    CoulombStep,
+    friction_potential,
+    generalized_forces,
+    incremental_potential,
+    normal_energy,
+    normal_force,
+    return_map,
+)
+from bristlecrawler.contact.node import node_force, node_potential, node_step
+from bristlecrawler.contact.profile import PeriodicProfile, Projection, gap, project, project_points
+from bristlecrawler.contact.substrate_config import (
+    FlatConfig,
+    GroovesConfig,
+    PolylineConfig,
+    SawtoothConfig,
+    SubstrateConfig,
+    parse_substrate,
+)
+from bristlecrawler.contact.substrates import (
+    PAPER_GROOVES,
+    PAPER_MU,
+    Flat,
+    Grooves,
+    Polyline,
+    Sawtooth,
+)
+
+__all__ = [
+    "OPEN",
+    "PAPER_GROOVES",
+    "PAPER_MU",
+    "PAPER_TIP_LOAD",
+    "SLIP",
+    "STICK",
+    "CoulombLaw",
+    "CoulombStep",
+    "Flat",
+    "FlatConfig",
+    "Grooves",
+    "GroovesConfig",
+    "PeriodicProfile",
+    "Polyline",
+    "PolylineConfig",
+    "Projection",
+    "Sawtooth",
+    "SawtoothConfig",
+    "SubstrateConfig",
+    "friction_potential",
+    "gap",
+    "generalized_forces",
+    "incremental_potential",
+    "node_force",
+    "node_potential",
+    "node_step",
+    "normal_energy",
+    "normal_force",
+    "parse_substrate",
+    "project",
+    "project_points",
+    "return_map",
+]

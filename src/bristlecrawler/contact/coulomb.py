@@ -1,0 +1,250 @@
+"""Penalty / augmented-Lagrangian Coulomb friction for one contact point in 2-D.
+
+Kinematics of a contact point: the signed gap ``g`` (mm, negative when penetrating) and a
+tangential coordinate ``s`` (mm) of its closest point along the surface, preferably the arc
+length of :func:`~bristlecrawler.contact.profile.project` (any coordinate that grows by the
+tangential travel works, e.g. the closest-point x on a flat plane). The history variable is
+the stick *anchor* ``a`` (mm): the value of ``s`` where the point sticks.
+
+Normal part (penalty regularised, optionally augmented by a multiplier ``lambda_n``, N)::
+
+    p_N = max(lambda_n - k_n g, 0)                    (N, compressive force >= 0)
+    W_N = max(lambda_n - k_n g, 0)^2 / (2 k_n)         (mJ),   dW_N/dg = -p_N
+
+With ``lambda_n = 0`` this is the plain penalty ``k_n <-g>^2 / 2``; the Uzawa update
+``lambda_n <- p_N`` drives the penetration to zero (Wriggers, Computational Contact
+Mechanics, 2nd ed., Springer 2006, Sec. 6.3 and 10.3).
+
+Tangential part: the elastic-perfectly-plastic return mapping (Wriggers 2006, Sec. 5.2.2;
+Simo & Hughes, Computational Inelasticity, Sec. 1.2), exact for one backward-Euler step with
+the limit ``mu p_N`` of the end of the step::
+
+    trial  delta = s - a,   f_trial = k_t delta
+    stick  |f_trial| <= mu p_N :  f = f_trial,                a unchanged
+    slip   otherwise           :  f = mu p_N sign(delta),     a = s - sign(delta) mu p_N / k_t
+
+``f`` is the derivative of the incremental frictional pseudo-potential (a Huber function)
+``psi(delta) = k_t delta^2 / 2`` for ``|delta| <= mu p_N / k_t`` and
+``mu p_N (|delta| - mu p_N / (2 k_t))`` beyond, so the step's incremental potential is
+``Phi = W_N(g) + psi(s - a)`` with ``p_N`` frozen in ``psi``: ``dPhi/dg = -p_N`` and
+``dPhi/ds = f``. The force of the substrate on the point is ``p_N n - f t`` (n outward normal,
+t tangent), i.e. ``-dPhi/dx``.
+
+"Stick" with a penalty is an elastic micro-displacement ``|delta| = |f| / k_t``;
+:meth:`CoulombLaw.for_reference_load` picks ``k_t`` so that it stays below a given drift
+(1e-4 mm by default) at the friction limit of a reference load, and ``k_n`` so that the
+penetration stays below 1e-3 mm at that load. The dissipation of a step is exactly
+``mu p_N |Delta a|`` (the slip increment is the anchor's travel).
+
+All functions are elementwise in their array arguments (so they act on many contact points
+at once and are ``jax.vmap``-able), pure, and differentiable: ``jax.grad`` of
+:func:`incremental_potential` gives the generalised forces, ``jax.hessian`` its symmetric
+(frozen-``p_N``) tangent; ``jax.jacfwd`` of :func:`generalized_forces` gives the full,
+non-symmetric consistent tangent of the non-associative Coulomb law.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
+from bristlecrawler.errors import InputError
+
+jax.config.update("jax_enable_x64", True)
+
+OPEN, STICK, SLIP = 0, 1, 2
+
+#: Static normal load on one bristle tip in the paper's prototype (55 g on two bristles,
+#: Section 2), N: 0.055 kg * 9.81 m/s^2 / 2.
+PAPER_TIP_LOAD = 0.055 * 9.81 / 2
+
+
+@pytree_dataclass
+class CoulombLaw:
+    """Coulomb friction with penalty regularisation.
+
+    Attributes:
+        mu: friction coefficient, dimensionless, >= 0.
+        k_n: normal penalty stiffness, N/mm, > 0.
+        k_t: tangential (stick) penalty stiffness, N/mm, > 0.
+    """
+
+    mu: jax.Array
+    k_n: jax.Array
+    k_t: jax.Array
+
+    def __post_init__(self) -> None:
+        vals = [as_float_leaf(self, n) for n in ("mu", "k_n", "k_t")]
+        if not is_concrete(*vals):
+            return
+        mu, k_n, k_t = (np.asarray(v) for v in vals)
+        if not np.all(np.isfinite(mu) & (mu >= 0)):
+            raise InputError(f"friction coefficient mu must be finite and >= 0, got {mu}")
+        for name, k in (("k_n", k_n), ("k_t", k_t)):
+            if not np.all(np.isfinite(k) & (k > 0)):
+                raise InputError(f"penalty stiffness {name} must be finite and > 0 N/mm, got {k}")
+
+    @classmethod
+    def for_reference_load(
+        cls,
+        mu: float,
+        load: float = PAPER_TIP_LOAD,
+        max_penetration: float = 1e-3,
+        max_stick_drift: float = 1e-4,
+    ) -> CoulombLaw:
+        """Penalties sized for a reference normal load.
+
+        Args:
+            mu: friction coefficient, dimensionless.
+            load: reference normal load, N (default: the paper's static load per bristle,
+                0.27 N; pass the largest load expected, dynamic peaks included).
+            max_penetration: penetration allowed at ``load``, mm (default 1 micrometre).
+            max_stick_drift: elastic tangential displacement allowed in stick at the
+                friction limit ``mu * load``, mm (default 1e-4 mm).
+
+        Returns ``k_n = load / max_penetration`` and
+        ``k_t = max(mu, 0.01) * load / max_stick_drift`` (N/mm); the floor keeps ``k_t``
+        positive and meaningful for frictionless contact.
+        """
+        for name, v in (
+            ("load", load),
+            ("max_penetration", max_penetration),
+            ("max_stick_drift", max_stick_drift),
+        ):
+            if not (np.isfinite(v) and v > 0):
+                raise InputError(f"{name} must be a positive finite number, got {v!r}")
+        if not (np.isfinite(mu) and mu >= 0):
+            raise InputError(f"friction coefficient mu must be finite and >= 0, got {mu!r}")
+        k_n = load / max_penetration
+        k_t = max(mu, 0.01) * load / max_stick_drift
+        return cls(mu=mu, k_n=k_n, k_t=k_t)
+
+
+class CoulombStep(NamedTuple):
+    """Result of one return mapping (arrays broadcast like the inputs).
+
+    Attributes:
+        p_n: normal contact force, N (>= 0; acts along the outward normal on the point).
+        f_t: tangential resistance ``dPhi/ds``, N; the force on the point is ``-f_t`` along t.
+        anchor: updated stick anchor, mm.
+        state: 0 open, 1 stick, 2 slip (int).
+        slip: slip increment of the step ``|Delta anchor|``, mm (0 in stick and open).
+        dissipation: frictional dissipation of the step ``mu p_N slip``, mJ.
+        stored: elastic penalty energy at the end of the step, mJ.
+    """
+
+    p_n: jax.Array
+    f_t: jax.Array
+    anchor: jax.Array
+    state: jax.Array
+    slip: jax.Array
+    dissipation: jax.Array
+    stored: jax.Array
+
+
+def normal_force(g: jax.Array, law: CoulombLaw, lambda_n: jax.Array = 0.0) -> jax.Array:
+    """Normal contact force p_N = max(lambda_n - k_n g, 0), N, for gap ``g`` (mm)."""
+    return jnp.maximum(lambda_n - law.k_n * g, 0.0)
+
+
+def normal_energy(g: jax.Array, law: CoulombLaw, lambda_n: jax.Array = 0.0) -> jax.Array:
+    """Penalty (augmented-Lagrangian) normal energy, mJ; ``d/dg = -p_N``."""
+    return 0.5 * normal_force(g, law, lambda_n) ** 2 / law.k_n
+
+
+def friction_potential(delta: jax.Array, limit: jax.Array, k_t: jax.Array) -> jax.Array:
+    """Incremental frictional pseudo-potential (Huber function), mJ.
+
+    Args:
+        delta: trial tangential displacement from the anchor ``s - a``, mm.
+        limit: friction limit ``mu p_N``, N (>= 0).
+        k_t: tangential penalty stiffness, N/mm.
+    """
+    d_c = limit / k_t
+    ad = jnp.abs(delta)
+    return jnp.where(ad <= d_c, 0.5 * k_t * delta**2, limit * (ad - 0.5 * d_c))
+
+
+def return_map(
+    g: jax.Array,
+    s: jax.Array,
+    anchor: jax.Array,
+    law: CoulombLaw,
+    lambda_n: jax.Array = 0.0,
+) -> CoulombStep:
+    """One backward-Euler step of penalty Coulomb friction (see the module docstring).
+
+    Args:
+        g: gap at the end of the step, mm.
+        s: tangential coordinate at the end of the step, mm.
+        anchor: stick anchor from the previous step, mm.
+        law: the :class:`CoulombLaw`.
+        lambda_n: augmented-Lagrangian normal multiplier, N (0 for pure penalty).
+
+    An open contact (p_N = 0) moves its anchor to ``s``, so a later touchdown starts in
+    stick at the point of the last open step.
+    """
+    p_n = normal_force(g, law, lambda_n)
+    limit = law.mu * p_n
+    delta = s - anchor
+    f_trial = law.k_t * delta
+    sticks = jnp.abs(f_trial) <= limit
+    sign = jnp.sign(delta)
+    f_t = jnp.where(sticks, f_trial, limit * sign)
+    new_anchor = jnp.where(sticks, anchor, s - sign * limit / law.k_t)
+    is_open = p_n <= 0.0
+    new_anchor = jnp.where(is_open, s, new_anchor)
+    slip = jnp.where(is_open, 0.0, jnp.abs(new_anchor - anchor))
+    state = jnp.where(is_open, OPEN, jnp.where(sticks, STICK, SLIP))
+    stored = normal_energy(g, law, lambda_n) + 0.5 * f_t**2 / law.k_t
+    return CoulombStep(
+        p_n=p_n,
+        f_t=f_t,
+        anchor=new_anchor,
+        state=state,
+        slip=slip,
+        dissipation=limit * slip,
+        stored=stored,
+    )
+
+
+def incremental_potential(
+    g: jax.Array,
+    s: jax.Array,
+    anchor: jax.Array,
+    law: CoulombLaw,
+    lambda_n: jax.Array = 0.0,
+) -> jax.Array:
+    """Incremental potential of one step ``W_N(g) + psi(s - a; mu p_N)``, mJ (summed).
+
+    ``p_N`` inside ``psi`` is held fixed (``stop_gradient``) because Coulomb friction is not
+    associative: without it ``d/dg`` would pick up a spurious ``dpsi/dp_N`` normal force.
+    ``jax.grad`` w.r.t. (g, s) gives exactly (-p_N, f_t) of :func:`return_map`;
+    ``jax.hessian`` gives the tangent with ``p_N`` frozen (exact in stick; in slip it lacks
+    the ``mu k_n`` normal-to-tangential coupling, see :func:`generalized_forces`).
+    Returns the sum over contact points so that gradients act per point.
+    """
+    p_n = jax.lax.stop_gradient(normal_force(g, law, lambda_n))
+    psi = friction_potential(s - anchor, law.mu * p_n, law.k_t)
+    return jnp.sum(normal_energy(g, law, lambda_n) + psi)
+
+
+def generalized_forces(
+    g: jax.Array,
+    s: jax.Array,
+    anchor: jax.Array,
+    law: CoulombLaw,
+    lambda_n: jax.Array = 0.0,
+) -> tuple[jax.Array, jax.Array]:
+    """``(dPhi/dg, dPhi/ds) = (-p_N, f_t)``, N, with the full dependence on ``g``.
+
+    ``jax.jacfwd`` of this (w.r.t. g and s) is the consistent, non-symmetric tangent: in
+    stick ``[[k_n, 0], [0, k_t]]``, in slip ``[[k_n, 0], [-mu k_n sign(delta), 0]]`` (for
+    a closed contact).
+    """
+    step = return_map(g, s, anchor, law, lambda_n)
+    return -step.p_n, step.f_t

@@ -1,0 +1,116 @@
+"""TOML form of a substrate, validated by pydantic at the edge.
+
+A ``[substrate]`` table names its ``kind`` and the fields of that kind, for example::
+
+    [substrate]
+    kind = "grooves"
+    width = 1.0      # mm
+    depth = 0.25     # mm
+    pitch = 2.0      # mm
+    mu = 0.65
+
+:func:`parse_substrate` turns a table (a mapping) into a config object, whose ``build()``
+returns the substrate; every failure is an :class:`~bristlecrawler.errors.InputError` with one
+line naming the offending field.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
+
+from bristlecrawler.contact.substrates import PAPER_MU, Flat, Grooves, Polyline, Sawtooth
+from bristlecrawler.errors import InputError
+
+_MU = Field(
+    PAPER_MU,
+    ge=0,
+    allow_inf_nan=False,
+    description="Coulomb friction coefficient bristle/substrate, dimensionless",
+)
+
+
+class _Base(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    mu: float = _MU
+
+
+class FlatConfig(_Base):
+    """A flat plane."""
+
+    kind: Literal["flat"]
+    height: float = Field(0.0, allow_inf_nan=False, description="surface level, mm")
+
+    def build(self) -> Flat:
+        return Flat(height=self.height)
+
+
+class GroovesConfig(_Base):
+    """Rectangular grooves (the paper's substrate)."""
+
+    kind: Literal["grooves"]
+    width: float = Field(gt=0, allow_inf_nan=False, description="groove width, mm")
+    depth: float = Field(gt=0, allow_inf_nan=False, description="groove depth, mm")
+    pitch: float = Field(gt=0, allow_inf_nan=False, description="groove spacing, mm")
+    phase: float = Field(0.0, allow_inf_nan=False, description="x of a groove's left wall, mm")
+    top: float = Field(0.0, allow_inf_nan=False, description="land level, mm")
+    fillet_top: float = Field(
+        0.0, ge=0, allow_inf_nan=False, description="radius of the convex land corners, mm"
+    )
+    fillet_bottom: float = Field(
+        0.0, ge=0, allow_inf_nan=False, description="radius of the concave bottom corners, mm"
+    )
+
+    def build(self) -> Grooves:
+        return Grooves(**self.model_dump(exclude={"kind", "mu"}))
+
+
+class SawtoothConfig(_Base):
+    """Asymmetric teeth."""
+
+    kind: Literal["sawtooth"]
+    pitch: float = Field(gt=0, allow_inf_nan=False, description="tooth spacing, mm")
+    height: float = Field(gt=0, allow_inf_nan=False, description="tooth height, mm")
+    rise_fraction: float = Field(
+        0.8, ge=0, le=1, allow_inf_nan=False, description="fraction of the pitch rising, -"
+    )
+    phase: float = Field(0.0, allow_inf_nan=False, description="x of a valley, mm")
+    base: float = Field(0.0, allow_inf_nan=False, description="valley level, mm")
+
+    def build(self) -> Sawtooth:
+        return Sawtooth(**self.model_dump(exclude={"kind", "mu"}))
+
+
+class PolylineConfig(_Base):
+    """Periodic polyline over one period."""
+
+    kind: Literal["polyline"]
+    points: list[tuple[float, float]] = Field(
+        min_length=2, description="[[x, y], ...] over exactly one period, mm"
+    )
+
+    def build(self) -> Polyline:
+        return Polyline(points=self.points)
+
+
+SubstrateConfig = Annotated[
+    FlatConfig | GroovesConfig | SawtoothConfig | PolylineConfig, Field(discriminator="kind")
+]
+_ADAPTER: TypeAdapter[Any] = TypeAdapter(SubstrateConfig)
+
+
+def parse_substrate(
+    table: Mapping[str, Any],
+) -> FlatConfig | GroovesConfig | SawtoothConfig | PolylineConfig:
+    """Validate a ``[substrate]`` table and check its geometry; raise a one-line InputError."""
+    try:
+        cfg = _ADAPTER.validate_python(dict(table))
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(x) for x in err["loc"]) or "substrate"
+        raise InputError(f"substrate.{where}: {err['msg']}") from None
+    cfg.build()  # geometric checks that pydantic cannot express (width < pitch, fillets, ...)
+    return cfg

@@ -1,0 +1,194 @@
+"""Rigid analytic substrates: flat, rectangular grooves, sawtooth teeth, periodic polyline.
+
+Each substrate is a frozen dataclass registered as a PyTree whose fields are leaves (so one
+compiled contact kernel serves every design, and ``jax.vmap`` runs over a batch of designs
+built with array-valued fields). ``profile()`` turns the parameters into the common
+:class:`~bristlecrawler.contact.profile.PeriodicProfile` with traceable JAX operations, and
+:func:`~bristlecrawler.contact.profile.project` does the geometry.
+
+The solid is the region below the profile (y up, mm). Parameters are checked when the
+object is built from concrete values; errors are :class:`~bristlecrawler.errors.InputError`
+with a one-line message naming the parameter. The paper's substrate (Section 2: "evenly
+spaced rectangular symmetric grooves 1 mm wide and 0.25 mm deep") is :data:`PAPER_GROOVES`
+with an assumed pitch of 2 mm (the paper does not give the spacing).
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
+from bristlecrawler.contact.profile import PeriodicProfile, check_vertices
+from bristlecrawler.errors import InputError
+
+jax.config.update("jax_enable_x64", True)
+
+
+def _require(ok: np.ndarray | bool, message: str) -> None:
+    if not bool(np.all(ok)):
+        raise InputError(message)
+
+
+def _finite(name: str, value: jax.Array) -> np.ndarray:
+    v = np.asarray(value, dtype=float)
+    _require(np.isfinite(v), f"{name} must be finite, got {v}")
+    return v
+
+
+@pytree_dataclass
+class Flat:
+    """Flat rigid plane y = height.
+
+    Attributes:
+        height: level of the surface, mm.
+    """
+
+    height: jax.Array = 0.0
+
+    def __post_init__(self) -> None:
+        as_float_leaf(self, "height")
+        if is_concrete(self.height):
+            _finite("height", self.height)
+
+    def profile(self) -> PeriodicProfile:
+        # Any period works for a straight line; 1 mm keeps arc length equal to x.
+        h = self.height
+        zero = jnp.zeros_like(h)
+        v = jnp.stack([jnp.stack([zero, h], -1), jnp.stack([zero + 1.0, h], -1)], axis=-2)
+        return PeriodicProfile(vertices=v, fillets=jnp.zeros((*v.shape[:-2], 1)))
+
+
+@pytree_dataclass
+class Grooves:
+    """Evenly spaced rectangular grooves cut into a flat land at y = top.
+
+    Groove k spans ``phase + k pitch <= x <= phase + k pitch + width`` with its bottom at
+    ``y = top - depth``. The optional fillets round the corners with circular arcs:
+    ``fillet_top`` the convex corners where a wall meets the land, ``fillet_bottom`` the
+    concave corners where a wall meets the groove bottom; 0 keeps a corner sharp.
+
+    Attributes:
+        width: groove width, mm; 0 < width < pitch.
+        depth: groove depth, mm; > 0.
+        pitch: groove spacing (period), mm; > 0.
+        phase: x of the left wall of groove 0, mm.
+        top: level of the land between grooves, mm.
+        fillet_top: radius of the convex land corners, mm; <= width/2, <= (pitch - width)/2.
+        fillet_bottom: radius of the concave bottom corners, mm; <= width/2.
+        (and fillet_top + fillet_bottom <= depth, so both fit on the wall).
+    """
+
+    width: jax.Array
+    depth: jax.Array
+    pitch: jax.Array
+    phase: jax.Array = 0.0
+    top: jax.Array = 0.0
+    fillet_top: jax.Array = 0.0
+    fillet_bottom: jax.Array = 0.0
+
+    def __post_init__(self) -> None:
+        names = ("width", "depth", "pitch", "phase", "top", "fillet_top", "fillet_bottom")
+        vals = [as_float_leaf(self, n) for n in names]
+        if not is_concrete(*vals):
+            return
+        w, d, p, _, _, rt, rb = (_finite(n, v) for n, v in zip(names, vals, strict=True))
+        for name, x in (("width", w), ("depth", d), ("pitch", p)):
+            _require(x > 0, f"groove {name} must be > 0 mm, got {x}")
+        _require(w < p, f"groove width ({w} mm) must be smaller than the pitch ({p} mm)")
+        for name, r in (("fillet_top", rt), ("fillet_bottom", rb)):
+            _require(r >= 0, f"{name} must be >= 0 mm, got {r}")
+            _require(r <= 0.5 * w, f"{name} ({r} mm) exceeds half the groove width ({w} mm)")
+            _require(r <= d, f"{name} ({r} mm) exceeds the groove depth ({d} mm)")
+        _require(
+            rt <= 0.5 * (p - w),
+            f"fillet_top ({rt} mm) exceeds half the land width pitch - width ({p - w} mm)",
+        )
+        _require(
+            rt + rb <= d,
+            f"fillet_top + fillet_bottom ({rt + rb} mm) exceeds the groove depth ({d} mm)",
+        )
+
+    def profile(self) -> PeriodicProfile:
+        # One period from the middle of a land to the middle of the next, so that no
+        # corner sits on the period boundary (the join there is straight).
+        w, d, p, ph, top = self.width, self.depth, self.pitch, self.phase, self.top
+        x0 = ph - 0.5 * (p - w)
+        xy = jnp.broadcast_arrays(
+            x0, ph, ph, ph + w, ph + w, x0 + p, top, top, top - d, top - d, top, top
+        )
+        v = jnp.stack([jnp.stack(xy[:6], -1), jnp.stack(xy[6:], -1)], -1)
+        zero = jnp.zeros_like(w)
+        rt, rb = self.fillet_top + zero, self.fillet_bottom + zero
+        r = jnp.stack(jnp.broadcast_arrays(zero, rt, rb, rb, rt), -1)
+        return PeriodicProfile(vertices=v, fillets=r)
+
+
+@pytree_dataclass
+class Sawtooth:
+    """Asymmetric teeth for directional substrates.
+
+    From a valley at ``x = phase`` (y = base) the profile rises linearly to the crest
+    (y = base + height) over ``rise_fraction * pitch`` and falls back linearly over the rest
+    of the pitch. ``rise_fraction`` 1 (or 0) gives a vertical drop (or rise).
+
+    Attributes:
+        pitch: tooth spacing, mm; > 0.
+        height: crest height above the valleys, mm; > 0.
+        rise_fraction: fraction of the pitch spent rising, dimensionless, in [0, 1].
+        phase: x of a valley, mm.
+        base: level of the valleys, mm.
+    """
+
+    pitch: jax.Array
+    height: jax.Array
+    rise_fraction: jax.Array = 0.8
+    phase: jax.Array = 0.0
+    base: jax.Array = 0.0
+
+    def __post_init__(self) -> None:
+        names = ("pitch", "height", "rise_fraction", "phase", "base")
+        vals = [as_float_leaf(self, n) for n in names]
+        if not is_concrete(*vals):
+            return
+        p, h, f, _, _ = (_finite(n, v) for n, v in zip(names, vals, strict=True))
+        _require(p > 0, f"sawtooth pitch must be > 0 mm, got {p}")
+        _require(h > 0, f"sawtooth height must be > 0 mm, got {h}")
+        _require((f >= 0) & (f <= 1), f"sawtooth rise_fraction must be in [0, 1], got {f}")
+
+    def profile(self) -> PeriodicProfile:
+        p, h, f, ph, b = self.pitch, self.height, self.rise_fraction, self.phase, self.base
+        xs = jnp.broadcast_arrays(ph, ph + f * p, ph + p, b, b + h, b)
+        v = jnp.stack([jnp.stack(xs[:3], -1), jnp.stack(xs[3:], -1)], -1)
+        return PeriodicProfile(vertices=v, fillets=jnp.zeros((*v.shape[:-2], 2)))
+
+
+@pytree_dataclass
+class Polyline:
+    """Any periodic piecewise-linear profile given by its points over one period.
+
+    Attributes:
+        points: (n + 1, 2) points, mm. The first and last have the same y and their x differ
+            by the period; x must not decrease (equal x makes a vertical wall) and the curve
+            must not fold back on itself. Corners are sharp.
+    """
+
+    points: jax.Array
+
+    def __post_init__(self) -> None:
+        pts = as_float_leaf(self, "points")
+        if is_concrete(pts):
+            check_vertices(np.asarray(pts), "points")
+
+    def profile(self) -> PeriodicProfile:
+        pts = self.points
+        return PeriodicProfile(
+            vertices=pts, fillets=jnp.zeros((*pts.shape[:-2], pts.shape[-2] - 1))
+        )
+
+
+#: Substrate of the paper's experiments and FE model (Section 2); the pitch is assumed.
+PAPER_GROOVES = Grooves(width=1.0, depth=0.25, pitch=2.0)
+#: Friction coefficient bristle/substrate that matched the experiments (paper, Section 3).
+PAPER_MU = 0.65
