@@ -1,0 +1,129 @@
+"""The scenario schema (paper Section 3 defaults). Units: mm, N, s, t, MPa."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from bristlecrawler.contact.substrate_config import GroovesConfig, SubstrateConfig
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def _pos(default: float, text: str):
+    return Field(default, gt=0, allow_inf_nan=False, description=text)
+
+
+class BodyConfig(_Section):
+    """Rigid body: a bar whose length follows the actuator, with point masses at its ends."""
+
+    length: float = _pos(100.0, "rest length of the connector between the two ends, mm")
+    end_mass: float = _pos(2.75e-5, "point mass at each end, t (27.5 g)")
+    link_length: float = _pos(
+        10.0,
+        "rigid vertical links from each end down to a bristle clamp, mm (not given in "
+        "the paper; a studied parameter)",
+    )
+    free_pitch: bool = Field(True, description="body free to pitch (else kept level)")
+
+
+class BristleConfig(_Section):
+    """Tapered rectangular silicone bristle (Shore A 40), clamped at alpha from the vertical."""
+
+    length: float = _pos(5.0, "bristle length, mm")
+    width: float = _pos(30.0, "out-of-plane width b, mm")
+    thickness_clamp: float = _pos(3.0, "thickness at the clamp h0, mm")
+    thickness_tip: float = _pos(0.5, "thickness at the tip h1, mm")
+    youngs_modulus: float = _pos(1.1, "Young's modulus E, MPa")
+    poisson_ratio: float = Field(0.45, gt=-1.0, lt=0.5, description="Poisson's ratio, -")
+    density: float = _pos(1.3e-9, "mass density, t/mm^3 (1.3 g/cm^3)")
+    alpha_deg: float = Field(
+        45.0,
+        gt=-80.0,
+        lt=80.0,
+        allow_inf_nan=False,
+        description="inclination from the vertical, degrees; tips trail (positive: sliding "
+        "along the grain is rightward)",
+    )
+    elements: int = Field(20, ge=2, le=2000, description="beam elements per bristle")
+    shear: bool = Field(True, description="shear-deformable (Timoshenko-like) beam")
+
+
+class DampingConfig(_Section):
+    """Rayleigh damping: by default mass-proportional with a ratio at the first resonance."""
+
+    ratio: float = Field(
+        0.15, ge=0.0, lt=1.0, description="damping ratio at the reference frequency, -"
+    )
+    kind: Literal["mass", "stiffness", "explicit"] = "mass"
+    a0: float = Field(0.0, ge=0.0, description="explicit mass coefficient, 1/s")
+    a1: float = Field(0.0, ge=0.0, description="explicit stiffness coefficient, s")
+
+
+class ActuationConfig(_Section):
+    """Step 2: the prescribed shortening of the body."""
+
+    kind: Literal["sin2", "history", "sma"] = "sin2"
+    s_max: float = _pos(20.0, "peak shortening s~, mm")
+    period: float = _pos(20.0, "cycle period T, s")
+    cycles: int = Field(5, ge=1, le=10_000, description="number of cycles")
+    history: str | None = Field(None, description="CSV with columns t (s), s (mm)")
+    settle_time: float = _pos(0.5, "step 1 (gravity) duration, s")
+
+    @model_validator(mode="after")
+    def _history(self) -> ActuationConfig:
+        if self.kind == "history" and not self.history:
+            raise ValueError("actuation.kind = 'history' needs actuation.history = 'file.csv'")
+        return self
+
+
+class SolverConfig(_Section):
+    """Implicit dynamics with an adaptive step."""
+
+    hht_alpha: float = Field(-0.05, ge=-1.0 / 3.0, le=0.0, description="HHT alpha, -")
+    dt_max: float = _pos(0.05, "largest time step, s")
+    dt_min: float = _pos(1e-6, "smallest time step before giving up, s")
+    tolerance: float = _pos(1e-8, "Newton tolerance on the relative residual, -")
+    max_iterations: int = Field(25, ge=2, le=1000, description="Newton iterations per step")
+
+
+class OutputConfig(_Section):
+    """What a run writes."""
+
+    frames_per_cycle: int = Field(40, ge=2, le=100_000, description="saved frames per cycle")
+    vtk: bool = True
+    figures: bool = True
+    animation: bool = True
+
+
+class Scenario(_Section):
+    """A complete finite-element crawler scenario."""
+
+    name: str = "custom"
+    description: str = ""
+    body: BodyConfig = BodyConfig()
+    bristle: BristleConfig = BristleConfig()
+    substrate: SubstrateConfig = GroovesConfig(kind="grooves", width=1.0, depth=0.25, pitch=2.0)
+    damping: DampingConfig = DampingConfig()
+    actuation: ActuationConfig = ActuationConfig()
+    gravity: float = Field(
+        9810.0, ge=0.0, allow_inf_nan=False, description="gravitational acceleration, mm/s^2"
+    )
+    solver: SolverConfig = SolverConfig()
+    output: OutputConfig = OutputConfig()
+
+    @model_validator(mode="after")
+    def _consistent(self) -> Scenario:
+        if self.actuation.kind != "history" and self.actuation.s_max >= self.body.length:
+            raise ValueError(
+                f"actuation.s_max ({self.actuation.s_max:g} mm) must be smaller than the body "
+                f"length ({self.body.length:g} mm)"
+            )
+        if self.bristle.thickness_tip > self.bristle.thickness_clamp * 50:
+            raise ValueError("bristle.thickness_tip is implausibly larger than the clamp's")
+        if self.solver.dt_min >= self.solver.dt_max:
+            raise ValueError("solver.dt_min must be smaller than solver.dt_max")
+        return self
