@@ -92,15 +92,17 @@ def plot_friction_law(law: DirectionalFriction, ax: Axes | None = None, vmax: fl
     ax.annotate(
         rf"$F_n$ = {law.fn:.3g} N",
         (-0.95 * vmax, law.fn),
-        xytext=(0, 6),
+        xytext=(0, -14),
         textcoords="offset points",
     )
     ax.annotate(
         rf"$-F_p$ = {-law.fp:.3g} N",
-        (0.35 * vmax, -law.fp),
-        xytext=(0, -14),
+        (0.3 * vmax, -law.fp),
+        xytext=(0, 6),
         textcoords="offset points",
     )
+    span = law.fn + law.fp
+    ax.set_ylim(-law.fp - 0.15 * span, law.fn + 0.15 * span)
     ax.set_xlabel(r"tip sliding velocity $\dot x_i$ (arbitrary scale)")
     ax.set_ylabel(r"force on the crawler $F_i$ (N)")
     ax.set_title("directional friction law")
