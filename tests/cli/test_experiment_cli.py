@@ -4,26 +4,12 @@ import json
 
 import pytest
 
-from bristlecrawler.cli.app import main
-
-
-def run_cli(args, capsys):
-    try:
-        main(args)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
 
 @pytest.mark.parametrize("ext", [".csv", ".tdms"])
-def test_synthesize_then_analyze(tmp_path, capsys, ext):
+def test_synthesize_then_analyze(tmp_path, run_cli, ext):
     rec = tmp_path / f"trial{ext}"
-    assert (
-        run_cli(["synth-recording", str(rec), "--actuator", "sin2", "--seed", "5"], capsys)[0] == 0
-    )
-    code, stdout, _ = run_cli(["analyze", str(rec), "--json", "--out", str(tmp_path / "a")], capsys)
+    assert run_cli(["synth-recording", str(rec), "--actuator", "sin2", "--seed", "5"])[0] == 0
+    code, stdout, _ = run_cli(["analyze", str(rec), "--json", "--out", str(tmp_path / "a")])
     assert code == 0
     d = json.loads(stdout)
     for key in (
@@ -50,11 +36,11 @@ def test_synthesize_then_analyze(tmp_path, capsys, ext):
         (["synth-recording", "x.csv", "--actuator", "steam"], "actuator"),
     ],
 )
-def test_bad_input(tmp_path, capsys, monkeypatch, args, word):
+def test_bad_input(tmp_path, run_cli, monkeypatch, args, word):
     monkeypatch.chdir(tmp_path)
     rec = tmp_path / "r.csv"
     rec.write_text("time_s,left_mm,right_mm\n" + "".join(f"{i / 100},0,0\n" for i in range(20)))
     args = [str(rec) if a == "REC" else a for a in args]
-    code, _, err = run_cli(args, capsys)
+    code, _, err = run_cli(args)
     assert code == 2 and word in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "runs").exists()

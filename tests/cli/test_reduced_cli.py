@@ -7,23 +7,12 @@ import sys
 import numpy as np
 import pytest
 
-from bristlecrawler.cli.app import main
 from bristlecrawler.reduced import closed_form
 
 
-def run_cli(args, capsys):
-    try:
-        main(args)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def test_reduced_paper_case_writes_everything(tmp_path, capsys):
+def test_reduced_paper_case_writes_everything(tmp_path, run_cli):
     out = tmp_path / "run"
-    code, stdout, _ = run_cli(["reduced", "--json", "--out", str(out)], capsys)
+    code, stdout, _ = run_cli(["reduced", "--json", "--out", str(out)])
     assert code == 0
     summary = json.loads(stdout)
     expected = float(closed_form.net_advance(20.0, 0.95, 5))
@@ -53,12 +42,11 @@ def test_reduced_paper_case_writes_everything(tmp_path, capsys):
         assert ds.sizes["event"] == summary["events"]
 
 
-def test_reduced_with_history_file(tmp_path, capsys):
+def test_reduced_with_history_file(tmp_path, run_cli):
     hist = tmp_path / "h.csv"
     hist.write_text("t,s\n0,0\n1,15\n2,5\n3,20\n4,0\n")
     code, stdout, _ = run_cli(
-        ["reduced", "--history", str(hist), "--json", "--no-figures", "--out", str(tmp_path / "o")],
-        capsys,
+        ["reduced", "--history", str(hist), "--json", "--no-figures", "--out", str(tmp_path / "o")]
     )
     assert code == 0
     s = json.loads(stdout)
@@ -67,7 +55,7 @@ def test_reduced_with_history_file(tmp_path, capsys):
     assert s["energy_balance_rel_error"] < 1e-9
 
 
-def test_ten_bristle_peristaltic_run(tmp_path, capsys):
+def test_ten_bristle_peristaltic_run(tmp_path, run_cli):
     code, stdout, _ = run_cli(
         [
             "reduced",
@@ -83,14 +71,13 @@ def test_ten_bristle_peristaltic_run(tmp_path, capsys):
             "--no-figures",
             "--out",
             str(tmp_path / "o"),
-        ],
-        capsys,
+        ]
     )
     assert code == 0
     assert json.loads(stdout)["bristles"] == 10
 
 
-def test_calibrate_json(capsys):
+def test_calibrate_json(run_cli):
     code, stdout, _ = run_cli(
         [
             "calibrate",
@@ -103,8 +90,7 @@ def test_calibrate_json(capsys):
             "--work",
             "75",
             "--json",
-        ],
-        capsys,
+        ]
     )
     assert code == 0
     d = json.loads(stdout)
@@ -130,10 +116,10 @@ BAD = [
 
 
 @pytest.mark.parametrize(("args", "word"), BAD)
-def test_bad_input_one_line_exit_2_nothing_written(args, word, tmp_path, capsys, monkeypatch):
+def test_bad_input_one_line_exit_2_nothing_written(args, word, tmp_path, run_cli, monkeypatch):
     monkeypatch.chdir(tmp_path)
     extra = ["--out", str(tmp_path / "o")] if args[0] == "reduced" else []
-    code, _, stderr = run_cli(args + extra, capsys)
+    code, _, stderr = run_cli(args + extra)
     assert code == 2
     lines = stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:") and word in lines[0]
@@ -151,21 +137,19 @@ def test_bad_input_one_line_exit_2_nothing_written(args, word, tmp_path, capsys,
         ("", "empty"),
     ],
 )
-def test_bad_history_files(content, word, tmp_path, capsys):
+def test_bad_history_files(content, word, tmp_path, run_cli):
     f = tmp_path / "h.csv"
     f.write_text(content)
-    code, _, stderr = run_cli(
-        ["reduced", "--history", str(f), "--out", str(tmp_path / "o")], capsys
-    )
+    code, _, stderr = run_cli(["reduced", "--history", str(f), "--out", str(tmp_path / "o")])
     assert code == 2 and word in stderr and len(stderr.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()
 
 
-def test_failed_run_leaves_previous_results_intact(tmp_path, capsys):
+def test_failed_run_leaves_previous_results_intact(tmp_path, run_cli):
     out = tmp_path / "o"
-    assert run_cli(["reduced", "--json", "--no-figures", "--out", str(out)], capsys)[0] == 0
+    assert run_cli(["reduced", "--json", "--no-figures", "--out", str(out)])[0] == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    assert run_cli(["reduced", "--k", "-1", "--out", str(out)], capsys)[0] == 2
+    assert run_cli(["reduced", "--k", "-1", "--out", str(out)])[0] == 2
     after = {p.name: p.read_bytes() for p in out.iterdir()}
     assert before == after
 

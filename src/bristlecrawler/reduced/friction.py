@@ -18,13 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bristlecrawler.errors import InputError
-
-
-def _positive(name: str, value: float) -> float:
-    value = float(value)
-    if not np.isfinite(value) or value <= 0.0:
-        raise InputError(f"{name} must be a positive finite number, got {value!r}")
-    return value
+from bristlecrawler.reduced._checks import positive
 
 
 @dataclass(frozen=True)
@@ -40,8 +34,8 @@ class DirectionalFriction:
     fn: float
 
     def __post_init__(self) -> None:
-        fp = _positive("F_p (fp)", self.fp)
-        fn = _positive("F_n (fn)", self.fn)
+        fp = positive("F_p (fp)", self.fp)
+        fn = positive("F_n (fn)", self.fn)
         if fn < fp:
             raise InputError(f"F_n must be >= F_p for a directional law, got F_n={fn} < F_p={fp}")
         object.__setattr__(self, "fp", fp)

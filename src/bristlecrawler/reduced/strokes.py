@@ -14,13 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bristlecrawler.errors import InputError
-
-
-def _check_positive(name: str, value: float) -> float:
-    value = float(value)
-    if not np.isfinite(value) or value <= 0.0:
-        raise InputError(f"{name} must be a positive finite number, got {value!r}")
-    return value
+from bristlecrawler.reduced._checks import positive
 
 
 @dataclass(frozen=True)
@@ -36,10 +30,8 @@ class Sin2Stroke:
     period: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "s_max", _check_positive("s_max (peak shortening, mm)", self.s_max)
-        )
-        object.__setattr__(self, "period", _check_positive("period (s)", self.period))
+        object.__setattr__(self, "s_max", positive("s_max (peak shortening, mm)", self.s_max))
+        object.__setattr__(self, "period", positive("period (s)", self.period))
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
         return self.s_max * np.sin(np.pi * np.asarray(t, dtype=float) / self.period) ** 2
@@ -101,7 +93,7 @@ class SampledStroke:
             i = int(np.argmax(s < 0.0))
             raise InputError(f"history: shortening must be >= 0 mm (sample {i}: s={s[i]})")
         if self.period is not None:
-            _check_positive("period (s)", self.period)
+            positive("period (s)", self.period)
         t.setflags(write=False)
         s.setflags(write=False)
         object.__setattr__(self, "t", t)
