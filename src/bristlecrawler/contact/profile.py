@@ -36,7 +36,10 @@ jax.config.update("jax_enable_x64", True)
 
 # Ranking penalty (mm) for a candidate whose closest point was clamped to an end: such a point
 # is also the end of the neighbouring primitive, which then owns it with the right normal.
-_CLAMP_BIAS = 1e-12
+_CLAMP_BIAS = 1e-9
+# Candidates within this (relative) distance of the best are a tie, resolved by period order,
+# so that round-off (e.g. after wrapping x into the period) cannot flip the choice.
+_TIE = 1e-11
 _TINY = 1e-300
 
 
@@ -245,8 +248,9 @@ def project(substrate, p: jax.Array) -> Projection:
 
     Pure and traceable: ``jax.jit``, ``jax.vmap`` over points and over batches of substrate
     parameters, ``jax.grad`` of the gap (= normal away from the medial axis).
-    At a tie between primitives (on the medial axis) the first one in period order wins,
-    so the choice is consistent, e.g. at the bottom corner of a groove.
+    At a tie between primitives (on the medial axis, to 1e-11 relative) the first one in
+    period order wins, so the choice is consistent, e.g. on the bisector of a groove's
+    bottom corner (the wall wins over the bottom).
     """
     c = _chain(substrate.profile())
     p = jnp.asarray(p, dtype=jnp.float64)
@@ -259,7 +263,9 @@ def project(substrate, p: jax.Array) -> Projection:
             shift = jnp.stack([(m + k) * c.period, 0.0])
             parts.append((dist, clamped, signed, n, q + shift, s + (m + k) * c.length))
     dist, clamped, signed, n, q, s = (jnp.concatenate(x, axis=0) for x in zip(*parts, strict=True))
-    i = jnp.argmin(dist + _CLAMP_BIAS * clamped)
+    rank = dist + _CLAMP_BIAS * clamped
+    best = jnp.min(rank)
+    i = jnp.argmax(rank <= best + _TIE * (1.0 + best))
     normal = n[i]
     tangent = jnp.stack([normal[1], -normal[0]])
     return Projection(gap=signed[i], normal=normal, tangent=tangent, point=q[i], arc_length=s[i])

@@ -1,0 +1,338 @@
+"""Signed distance, normals and closest points on rigid analytic substrates.
+
+Oracles are independent of the implementation: hand-computed points, a parametrisation of
+the grooved boundary written here, reflection/complement symmetries, periodicity, and a
+brute-force distance to a densely sampled polyline.
+"""
+
+import itertools
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from bristlecrawler.contact import (
+    Flat,
+    Grooves,
+    Polyline,
+    Sawtooth,
+    gap,
+    project,
+    project_points,
+)
+
+grad_gap = jax.jit(jax.grad(gap, argnums=1))
+gap_one = jax.jit(gap)
+project_one = jax.jit(project)
+
+G = Grooves(width=1.0, depth=0.25, pitch=2.0)  # groove over 0 <= x <= 1, land at y = 0
+
+
+@pytest.mark.parametrize(
+    ("p", "g", "n", "q"),
+    [
+        ((-0.5, 0.1), 0.1, (0, 1), (-0.5, 0.0)),  # above the land
+        ((-0.5, -0.1), -0.1, (0, 1), (-0.5, 0.0)),  # below the land
+        ((0.5, -0.1), 0.15, (0, 1), (0.5, -0.25)),  # inside the groove, bottom nearest
+        ((0.05, -0.1), 0.05, (1, 0), (0.0, -0.1)),  # inside the groove near the left wall
+        ((0.97, -0.2), 0.03, (-1, 0), (1.0, -0.2)),  # near the right wall
+        ((-0.05, -0.1), -0.05, (1, 0), (0.0, -0.1)),  # penetrating the left wall
+        ((0.5, -5.0), -4.75, (0, 1), (0.5, -0.25)),  # deep below the groove
+        ((0.3, 0.4), 0.5, (0.6, 0.8), (0.0, 0.0)),  # convex corner: direction corner->point
+        ((1.3, 0.4), 0.4, (0, 1), (1.3, 0.0)),  # above the land right of the groove
+        ((0.7, 0.4), 0.5, (-0.6, 0.8), (1.0, 0.0)),  # right convex corner
+        (
+            (-0.1, -0.3),
+            -math.hypot(0.1, 0.05),
+            (0.8944271909999159, 0.4472135954999579),
+            (0.0, -0.25),
+        ),  # inside the solid under the concave bottom corner
+        ((2.05, -0.1), 0.05, (1, 0), (2.0, -0.1)),  # next period
+        ((-1.95, -0.1), 0.05, (1, 0), (-2.0, -0.1)),  # previous period
+    ],
+)
+def test_grooves_hand_computed(p, g, n, q):
+    pr = project_one(G, jnp.array(p))
+    assert float(pr.gap) == pytest.approx(g, abs=1e-12)
+    np.testing.assert_allclose(pr.normal, n, atol=1e-12)
+    np.testing.assert_allclose(pr.point, q, atol=1e-12)
+    np.testing.assert_allclose(pr.tangent, (n[1], -n[0]), atol=1e-12)
+
+
+def test_concave_corner_tie_is_consistent():
+    # On the bisector of the bottom-left corner (inside the groove) wall and bottom tie;
+    # the same one must be picked every time, and the gap is the same either way.
+    p = jnp.array([0.1, -0.15])
+    a, b = project_one(G, p), project_one(G, p + jnp.array([2.0, 0.0]))
+    assert float(a.gap) == pytest.approx(0.1)
+    np.testing.assert_array_equal(a.normal, b.normal)
+
+
+def _groove_params():
+    return st.tuples(
+        st.floats(0.2, 3.0),  # pitch
+        st.floats(0.1, 0.9),  # width / pitch
+        st.floats(0.05, 1.0),  # depth
+        st.floats(0.0, 1.0),  # fillet_top / its bound
+        st.floats(0.0, 1.0),  # fillet_bottom / its bound
+        st.floats(-2.0, 2.0),  # phase
+    ).map(_make_grooves)
+
+
+def _make_grooves(t):
+    p, wf, d, ft, fb, ph = t
+    w = wf * p
+    rb = fb * min(0.5 * w, 0.5 * d)
+    rt = ft * min(0.5 * w, 0.5 * (p - w), d - rb)
+    return Grooves(width=w, depth=d, pitch=p, phase=ph, fillet_top=rt, fillet_bottom=rb)
+
+
+def _boundary_point(gr, u):
+    """Point, outward normal and safe offsets (outwards, inwards) at u in [0, 1) of a period.
+
+    Independent parametrisation of the filleted groove (written for the test), walking
+    left land -> top fillet -> wall -> bottom fillet -> bottom -> ... -> right land. The safe
+    offsets keep q + delta n closer to q than to the medial axis: on a straight piece the
+    distance to its ends (corners are 90 degrees), on an arc its radius towards the centre.
+    """
+    w, d, p, ph = (float(x) for x in (gr.width, gr.depth, gr.pitch, gr.phase))
+    rt, rb = float(gr.fillet_top), float(gr.fillet_bottom)
+    q2 = 0.5 * math.pi
+    inf = math.inf
+
+    def line(start, direction, normal, length):
+        def f(s):
+            q = np.array(start) + s * np.array(direction)
+            lim = min(s, length - s)
+            return q, np.array(normal, dtype=float), lim, lim
+
+        return length, f
+
+    def arc(c, r, a0, orient):
+        def f(s):
+            ang = a0 - orient * s / r if r > 0 else a0  # convex: clockwise
+            u = np.array([math.cos(ang), math.sin(ang)])
+            # convex (orient 1): the centre is inside; concave: outside
+            return (
+                np.array(c) + r * u,
+                orient * u,
+                (inf if orient > 0 else r),
+                (r if orient > 0 else inf),
+            )
+
+        return q2 * r, f
+
+    x0 = ph - 0.5 * (p - w)
+    land = 0.5 * (p - w) - rt
+    wall = d - rt - rb
+    pieces = [
+        line((x0, 0.0), (1, 0), (0, 1), land),
+        arc((ph - rt, -rt), rt, q2, 1),
+        line((ph, -rt), (0, -1), (1, 0), wall),
+        arc((ph + rb, -d + rb), rb, math.pi, -1),
+        line((ph + rb, -d), (1, 0), (0, 1), w - 2 * rb),
+        arc((ph + w - rb, -d + rb), rb, 1.5 * math.pi, -1),
+        line((ph + w, -d + rb), (0, 1), (-1, 0), wall),
+        arc((ph + w + rt, -rt), rt, math.pi, 1),
+        line((ph + w + rt, 0.0), (1, 0), (0, 1), land),
+    ]
+    s = u * sum(x[0] for x in pieces)
+    for length, f in pieces:
+        if s <= length:
+            return f(s)
+        s -= length
+    return pieces[-1][1](pieces[-1][0])
+
+
+@given(gr=_groove_params(), u=st.floats(0.0, 1.0), frac=st.floats(-0.9, 0.9))
+def test_offset_along_normal_projects_back(gr, u, frac):
+    """q + delta n projects back to q with gap delta and normal n, and the gradient of the
+    gap there matches central finite differences."""
+    q, n, lim_out, lim_in = _boundary_point(gr, u)
+    w, d, p = float(gr.width), float(gr.depth), float(gr.pitch)
+    size = 0.5 * min(w, d, p - w)
+    delta = frac * min(size, lim_out if frac > 0 else lim_in)
+    x = q + delta * n
+    pr = project_one(gr, jnp.array(x))
+    assert float(pr.gap) == pytest.approx(delta, abs=1e-10)
+    np.testing.assert_allclose(pr.point, q, atol=1e-9)
+    np.testing.assert_allclose(pr.normal, n, atol=1e-9)
+    h = 1e-6
+    margin = min(size, lim_out, lim_in) - abs(delta)
+    if margin > 10 * h:
+        fd = [
+            (gap_one(gr, jnp.array(x + h * e)) - gap_one(gr, jnp.array(x - h * e))) / (2 * h)
+            for e in np.eye(2)
+        ]
+        np.testing.assert_allclose(fd, n, atol=1e-6)
+
+
+@given(gr=_groove_params(), x=st.floats(-10, 10), y=st.floats(-2, 1))
+def test_closest_point_on_surface_and_gradient_is_normal(gr, x, y):
+    p = jnp.array([x, y])
+    pr = project_one(gr, p)
+    # p = q + g n, |n| = 1, the closest point lies on the surface (gap 0 there)
+    np.testing.assert_allclose(pr.point + pr.gap * pr.normal, p, atol=1e-10)
+    assert float(jnp.linalg.norm(pr.normal)) == pytest.approx(1.0, abs=1e-12)
+    assert float(project_one(gr, pr.point).gap) == pytest.approx(0.0, abs=1e-10)
+    # jax.grad of the gap is the normal (|grad g| = 1); on the surface itself (a corner of a
+    # tiny fillet, say) the direction p - q is round-off, so only check off the surface.
+    if abs(float(pr.gap)) > 1e-9:
+        np.testing.assert_allclose(grad_gap(gr, p), pr.normal, atol=1e-10)
+
+
+@given(gr=_groove_params(), x=st.floats(-5, 5), y=st.floats(-2, 1), k=st.integers(-50, 50))
+def test_periodicity(gr, x, y, k):
+    p = jnp.array([x, y])
+    a = project_one(gr, p)
+    b = project_one(gr, p + jnp.array([k * float(gr.pitch), 0.0]))
+    assert float(b.gap) == pytest.approx(float(a.gap), abs=1e-9)
+    np.testing.assert_allclose(b.normal, a.normal, atol=1e-7)
+    # one period of arc length: lands + walls, each 90 degree fillet trades 2r for pi r / 2
+    rt, rb = float(gr.fillet_top), float(gr.fillet_bottom)
+    per = float(gr.pitch) + 2 * float(gr.depth) - (4 - math.pi) * (rt + rb)
+    if abs(float(a.gap)) > 1e-6:  # a point on the medial axis may pick another foot
+        assert float(b.arc_length - a.arc_length) == pytest.approx(k * per, abs=1e-8)
+
+
+@given(
+    p=st.floats(0.2, 3.0),
+    d=st.floats(0.05, 1.0),
+    fr=st.floats(0.0, 1.0),
+    x=st.floats(-5, 5),
+    y=st.floats(-2, 1),
+)
+def test_complement_symmetry(p, d, fr, x, y):
+    """With width = pitch/2 and equal fillets the air is the solid turned upside down and
+    shifted by half a pitch, so g(x, y) = -g(x + p/2, -d - y): convex and concave corners
+    swap roles."""
+    r = fr * min(0.25 * p, 0.5 * d)
+    gr = Grooves(width=0.5 * p, depth=d, pitch=p, fillet_top=r, fillet_bottom=r)
+    g1 = project_one(gr, jnp.array([x, y])).gap
+    g2 = project_one(gr, jnp.array([x + 0.5 * p, -d - y])).gap
+    assert float(g1) == pytest.approx(-float(g2), abs=1e-9)
+
+
+@given(gr=_groove_params(), x=st.floats(-5, 5), y=st.floats(-2, 1))
+def test_mirror_symmetry(gr, x, y):
+    # Grooves centred on x = 0 are symmetric: g(-x, y) = g(x, y), n_x flips.
+    c = Grooves(
+        width=gr.width,
+        depth=gr.depth,
+        pitch=gr.pitch,
+        phase=-0.5 * gr.width,
+        fillet_top=gr.fillet_top,
+        fillet_bottom=gr.fillet_bottom,
+    )
+    a, b = project_one(c, jnp.array([x, y])), project_one(c, jnp.array([-x, y]))
+    assert float(a.gap) == pytest.approx(float(b.gap), abs=1e-9)
+    # off the mirror axes (x = k pitch / 2) the normals mirror each other; on them the
+    # medial-axis tie is broken the same way on both sides, so they need not.
+    half = 0.5 * float(gr.pitch)
+    if abs(x / half - round(x / half)) * half > 1e-6:
+        np.testing.assert_allclose(a.normal, b.normal * np.array([-1.0, 1.0]), atol=1e-6)
+
+
+@given(
+    w=st.floats(0.1, 2.0),
+    d=st.floats(0.05, 1.0),
+    fx=st.floats(0.001, 0.999),
+    fy=st.floats(0.001, 0.999),
+)
+def test_gap_inside_sharp_groove_is_distance_to_nearest_wall_or_bottom(w, d, fx, fy):
+    gr = Grooves(width=w, depth=d, pitch=w + 1.0, phase=0.3)
+    x, y = 0.3 + fx * w, -fy * d
+    expected = min(x - 0.3, 0.3 + w - x, y + d)
+    assert float(project_one(gr, jnp.array([x, y])).gap) == pytest.approx(expected, abs=1e-12)
+
+
+@given(h=st.floats(-10, 10), x=st.floats(-100, 100), y=st.floats(-10, 10))
+def test_flat(h, x, y):
+    pr = project_one(Flat(height=h), jnp.array([x, y]))
+    assert float(pr.gap) == pytest.approx(y - h, abs=1e-10)
+    np.testing.assert_allclose(pr.normal, (0.0, 1.0), atol=1e-12)
+    assert float(pr.arc_length) == pytest.approx(x, abs=1e-9)
+
+
+def test_fillet_geometry():
+    r1, r2 = 0.1, 0.05
+    gr = Grooves(width=1.0, depth=0.25, pitch=2.0, fillet_top=r1, fillet_bottom=r2)
+    # the sharp convex corner was cut off: it is outside by r (sqrt 2 - 1), normal at 45 deg
+    top = project_one(gr, jnp.array([0.0, 0.0]))
+    assert float(top.gap) == pytest.approx(r1 * (math.sqrt(2) - 1), abs=1e-12)
+    np.testing.assert_allclose(top.normal, np.array([1.0, 1.0]) / math.sqrt(2), atol=1e-12)
+    # the sharp concave corner is now inside the filled fillet
+    bot = project_one(gr, jnp.array([0.0, -0.25]))
+    assert float(bot.gap) == pytest.approx(-r2 * (math.sqrt(2) - 1), abs=1e-12)
+    np.testing.assert_allclose(bot.normal, np.array([1.0, 1.0]) / math.sqrt(2), atol=1e-12)
+    # any point of the top fillet circle is on the surface, with normal centre -> point
+    for ang in np.linspace(0.0, 0.5 * math.pi, 7):
+        u = np.array([math.cos(ang), math.sin(ang)])
+        pr = project_one(gr, jnp.array(np.array([-r1, -r1]) + (r1 + 0.02) * u))
+        assert float(pr.gap) == pytest.approx(0.02, abs=1e-12)
+        np.testing.assert_allclose(pr.normal, u, atol=1e-12)
+    # the fillet is tangent to the land and to the wall: normals are continuous
+    for x in (-r1 - 1e-9, -r1 + 1e-9):
+        np.testing.assert_allclose(project_one(gr, jnp.array([x, 0.01])).normal, (0, 1), atol=1e-7)
+
+
+def _brute_force_gap(points, p, period):
+    """Signed distance to a polyline sampled at 20 000 points per period, 3 periods."""
+    shifts = np.array([[k * period, 0.0] for k in (-1, 0, 1)])
+    pts = np.vstack([points[:-1] + sh for sh in shifts] + [points[-1:] + shifts[-1]])
+    seg = []
+    for a, b in itertools.pairwise(pts):
+        t = np.linspace(0.0, 1.0, 2000)[:, None]
+        seg.append(a + t * (b - a))
+    s = np.concatenate(seg)
+    x = p[0] - period * np.floor((p[0] - points[0, 0]) / period)
+    d = np.min(np.hypot(s[:, 0] - x, s[:, 1] - p[1]))
+    inside = p[1] < np.interp(x, pts[:, 0], pts[:, 1])
+    return -d if inside else d
+
+
+@given(
+    pitch=st.floats(0.5, 3.0),
+    height=st.floats(0.1, 1.0),
+    f=st.floats(0.05, 0.95),
+    x=st.floats(-3, 3),
+    y=st.floats(-1.5, 1.5),
+)
+def test_sawtooth_matches_brute_force(pitch, height, f, x, y):
+    saw = Sawtooth(pitch=pitch, height=height, rise_fraction=f)
+    pts = np.array([[0.0, 0.0], [f * pitch, height], [pitch, 0.0]])
+    ref = _brute_force_gap(pts, np.array([x, y]), pitch)
+    g = float(project_one(saw, jnp.array([x, y])).gap)
+    assert g == pytest.approx(ref, abs=2e-3 * pitch)
+
+
+def test_polyline_with_vertical_walls_matches_grooves():
+    # A polyline describing the paper's grooves gives the same answer as Grooves.
+    poly = Polyline(points=[[-0.5, 0], [0, 0], [0, -0.25], [1, -0.25], [1, 0], [1.5, 0]])
+    rng = np.random.default_rng(0)
+    pts = jnp.array(rng.uniform([-3, -1], [3, 0.5], size=(500, 2)))
+    a, b = project_points(poly, pts), project_points(G, pts)
+    np.testing.assert_allclose(a.gap, b.gap, atol=1e-12)
+    np.testing.assert_allclose(a.point, b.point, atol=1e-12)
+
+
+def test_vmap_over_designs_and_one_compilation():
+    widths = jnp.linspace(0.2, 1.8, 9)
+    # a batch of designs: every field batched (stack single designs leaf by leaf)
+    designs = [Grooves(width=w, depth=0.25, pitch=2.0) for w in widths]
+    batch = jax.tree.map(lambda *x: jnp.stack(x), *designs)
+    p = jnp.array([0.15, -0.1])
+    many = jax.jit(jax.vmap(project, in_axes=(0, None)))(batch, p)
+    for i, w in enumerate(widths):
+        one = project_one(Grooves(width=w, depth=0.25, pitch=2.0), p)
+        assert float(many.gap[i]) == pytest.approx(float(one.gap), abs=1e-12)
+    # new designs of the same structure reuse the compiled kernel
+    f = jax.jit(jax.vmap(project, in_axes=(None, 0)))
+    pts = jnp.zeros((4, 2))
+    f(Grooves(width=1.0, depth=0.25, pitch=2.0), pts)
+    f(Grooves(width=0.5, depth=0.1, pitch=1.0, fillet_top=0.05), pts)
+    assert f._cache_size() == 1
