@@ -266,9 +266,20 @@ def project(substrate, p: jax.Array) -> Projection:
     rank = dist + _CLAMP_BIAS * clamped
     best = jnp.min(rank)
     i = jnp.argmax(rank <= best + _TIE * (1.0 + best))
-    normal = n[i]
+    # Normally the winner is not clamped and gap = (p - q).n is exact and smooth (also on
+    # the surface). A clamped winner only happens on the boundary of a corner's cone (ties
+    # within round-off): there (p - q).n may be 0 while |p - q| is not, so use the distance
+    # and the direction q -> p (a safe sqrt keeps grad finite at the corner itself).
+    diff = p - q[i]
+    d2 = jnp.sum(diff * diff)
+    ok = d2 > 1e-30
+    root = jnp.sqrt(jnp.where(ok, d2, 1.0))
+    sign = jnp.where(signed[i] < 0.0, -1.0, 1.0)
+    use_dist = clamped[i] & ok
+    g = jnp.where(use_dist, sign * root, signed[i])
+    normal = jnp.where(use_dist, sign * diff / root, n[i])
     tangent = jnp.stack([normal[1], -normal[0]])
-    return Projection(gap=signed[i], normal=normal, tangent=tangent, point=q[i], arc_length=s[i])
+    return Projection(gap=g, normal=normal, tangent=tangent, point=q[i], arc_length=s[i])
 
 
 def gap(substrate, p: jax.Array) -> jax.Array:
