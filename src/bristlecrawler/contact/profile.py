@@ -211,11 +211,17 @@ def _chain(prof: PeriodicProfile) -> _Chain:
     )
 
 
+def _clip(x: jax.Array, lo: jax.Array, hi: jax.Array) -> jax.Array:
+    # Unlike jnp.clip, keeps the full derivative at x == lo or hi (jnp.minimum splits it in
+    # half at a tie, which would halve d(arc length)/dx at a vertex).
+    return jnp.where(x < lo, lo, jnp.where(x > hi, hi, x))
+
+
 def _segments(c: _Chain, p: jax.Array):
     ab = c.b - c.a
     ab2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), _TINY)  # fillets may eat a whole segment
     t_raw = jnp.sum((p - c.a) * ab, axis=-1) / ab2
-    t = jnp.clip(t_raw, 0.0, 1.0)
+    t = _clip(t_raw, 0.0, 1.0)
     q = c.a + t[:, None] * ab
     signed = jnp.sum((p - q) * c.seg_normal, axis=-1)
     dist = jnp.sqrt(jnp.sum((p - q) ** 2, axis=-1))
@@ -229,7 +235,7 @@ def _arcs(c: _Chain, p: jax.Array):
     vv = jnp.sum(v * v, axis=-1, keepdims=True)
     v = jnp.where(vv > 1e-200, v, c.mid)  # the angle at the centre itself is arbitrary
     psi = jnp.arctan2(_cross(c.mid, v), jnp.sum(c.mid * v, axis=-1))
-    psi_c = jnp.clip(psi, -c.half, c.half)
+    psi_c = _clip(psi, -c.half, c.half)
     cos, sin = jnp.cos(psi_c), jnp.sin(psi_c)
     u = jnp.stack(
         [cos * c.mid[:, 0] - sin * c.mid[:, 1], sin * c.mid[:, 0] + cos * c.mid[:, 1]], axis=-1
