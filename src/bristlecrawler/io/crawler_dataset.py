@@ -1,0 +1,60 @@
+"""The finite-element crawler history as an xarray Dataset (NetCDF), units in attributes."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+def crawler_dataset(h, attrs: dict[str, Any] | None = None):
+    """Dataset with dims time, bristle, xy, frame, node, line."""
+    import xarray as xr
+
+    resid = h.energy_balance_residual()
+    data = {
+        "s": ("time", h.s, {"units": "mm", "long_name": "shortening"}),
+        "delta": ("time", h.delta, {"units": "mm", "long_name": "right-end displacement Delta"}),
+        "left": (("time", "xy"), h.left, {"units": "mm", "long_name": "left end position"}),
+        "right": (("time", "xy"), h.right, {"units": "mm", "long_name": "right end position"}),
+        "connector_force": (
+            "time",
+            h.connector_force,
+            {"units": "N", "long_name": "connector force F_c (pulling)"},
+        ),
+        "connector_work": ("time", h.connector_work, {"units": "mJ", "long_name": "W_c"}),
+        "tip_position": (("time", "bristle", "xy"), h.tip_position, {"units": "mm"}),
+        "tip_state": (
+            ("time", "bristle"),
+            h.tip_state.astype(np.int8),
+            {"flag_values": np.array([0, 1, 2], np.int8), "flag_meanings": "open stick slip"},
+        ),
+        "energy_balance_residual": ("time", resid - resid[0], {"units": "mJ"}),
+        "frame_nodes": (("frame", "node", "xy"), h.frame_nodes, {"units": "mm"}),
+        "lines": (("line", "end"), h.lines.astype(np.int32)),
+        "line_kind": (
+            "line",
+            h.line_kind.astype(np.int8),
+            {"flag_values": np.array([0, 1, 2], np.int8), "flag_meanings": "body link bristle"},
+        ),
+        "substrate_xy": (("substrate_point", "xy"), h.substrate_xy, {"units": "mm"}),
+    }
+    for name, series in h.energies.items():
+        data[f"energy_{name}"] = ("time", series, {"units": "mJ"})
+    ds = xr.Dataset(
+        data,
+        coords={
+            "time": ("time", h.t, {"units": "s"}),
+            "frame_time": ("frame", h.frame_t, {"units": "s"}),
+            "xy": ["x", "y"],
+        },
+        attrs={"model": "bristlecrawler finite-element crawler", "units": "mm, N, s, t, mJ"},
+    )
+    extra = dict(h.stats) | (attrs or {})
+    ds.attrs.update(
+        {k: v if isinstance(v, int | float | str) else str(v) for k, v in extra.items()}
+    )
+    if h.period is not None:
+        ds.attrs["period_s"] = float(h.period)
+    ds.attrs["cycles"] = int(h.cycles)
+    return ds

@@ -1,0 +1,109 @@
+"""Figures of finite-element crawler runs, like the paper's Figs. 4, 5 and 6."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, _pyplot
+
+
+def plot_delta_vs_s(h, title: str | None = None):
+    """Delta versus s over all cycles; slip (some tip sliding) red, stick blue-dashed."""
+    from bristlecrawler.crawler.history import TIP_SLIP
+
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    sliding = np.any(h.tip_state == TIP_SLIP, axis=1)
+    cuts = np.flatnonzero(np.diff(sliding.astype(int))) + 1
+    labelled = set()
+    for a, b in zip(np.r_[0, cuts], np.r_[cuts, h.t.size], strict=True):
+        slip = bool(sliding[a])
+        name = ("slip" if slip else "stick") if slip not in labelled else None
+        labelled.add(slip)
+        lo = max(a - 1, 0)
+        ax.plot(h.s[lo:b], h.delta[lo:b], label=name, **(SLIP_STYLE if slip else STICK_STYLE))
+    ax.set_xlabel("shortening s (mm)")
+    ax.set_ylabel(r"displacement of the right end $\Delta$ (mm)")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left")
+    ax.set_title(title or f"net advance {h.net_advance:.2f} mm")
+    return fig
+
+
+def plot_connector(h):
+    """F_c(t) and W_c(t) with the first cycle shaded grey (paper Fig. 6)."""
+    plt = _pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 5.2), sharex=True)
+    a1.plot(h.t, h.connector_force, color="k", lw=0.8)
+    a1.set_ylabel(r"connector force $F_c$ (N)")
+    a2.plot(h.t, h.connector_work, color="k", lw=1.2)
+    a2.set_ylabel(r"connector work $W_c$ (mJ)")
+    a2.set_xlabel("time t (s)")
+    if h.period is not None:
+        for ax in (a1, a2):
+            ax.axvspan(h.t[0], h.t[0] + h.period, color="0.85", zorder=0)
+    for ax in (a1, a2):
+        ax.grid(alpha=0.3)
+    return fig
+
+
+def draw_frame(ax, h, f: int, xlim: tuple[float, float] | None = None) -> None:
+    """Draw frame ``f``: body/links black, bristles red, substrate grey."""
+    nodes = h.frame_nodes[f]
+    colors = {0: "k", 1: "0.3", 2: "tab:red"}
+    widths = {0: 2.5, 1: 1.5, 2: 1.2}
+    for kind in (0, 1, 2):
+        segs = h.lines[h.line_kind == kind]
+        for a, b in segs:
+            ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color=colors[kind], lw=widths[kind])
+    sub = h.substrate_xy
+    ax.fill_between(sub[:, 0], sub[:, 1], sub[:, 1].min() - 2.0, color="0.85", lw=0)
+    ax.plot(sub[:, 0], sub[:, 1], color="0.4", lw=0.6)
+    ax.set_aspect("equal")
+    if xlim is not None:
+        ax.set_xlim(*xlim)
+    ax.set_axis_off()
+
+
+def _frame_at(h, t: float) -> int:
+    return int(np.argmin(np.abs(h.frame_t - t)))
+
+
+def plot_shapes(h):
+    """Deformed shapes at the start, full contraction and re-extension of each cycle, with
+    dashed verticals at the ends' positions (paper Fig. 5)."""
+    plt = _pyplot()
+    n = max(h.cycles, 1)
+    period = h.period or (h.t[-1] - h.t[0])
+    fig, axes = plt.subplots(n, 3, figsize=(11.0, 1.3 * n + 0.6), squeeze=False)
+    xs = h.frame_nodes[..., 0]
+    xlim = (float(xs.min()) - 3.0, float(xs.max()) + 3.0)
+    labels = ("start", "contracted", "re-extended")
+    for c in range(n):
+        t0 = h.t[0] + c * period
+        for j, t in enumerate((t0, t0 + 0.5 * period, t0 + period)):
+            ax = axes[c, j]
+            f = _frame_at(h, t)
+            draw_frame(ax, h, f, xlim)
+            m = int(np.argmin(np.abs(h.t - h.frame_t[f])))
+            for x in (h.left[m, 0], h.right[m, 0]):
+                ax.axvline(x, color="tab:blue", ls="--", lw=0.8)
+            if c == 0:
+                ax.set_title(labels[j], fontsize=9)
+        axes[c, 0].text(xlim[0], 0.0, f"cycle {c + 1}", fontsize=8, ha="right", va="center")
+    fig.tight_layout()
+    return fig
+
+
+def animate(h, path_stem, fps: float = 12.0):
+    """GIF (and MP4 when available) of all frames."""
+    from bristlecrawler.viz.animation import write_animation
+
+    xs = h.frame_nodes[..., 0]
+    xlim = (float(xs.min()) - 3.0, float(xs.max()) + 3.0)
+
+    def draw(ax, f):
+        draw_frame(ax, h, f, xlim)
+        ax.set_title(f"t = {h.frame_t[f]:.1f} s", fontsize=9)
+
+    return write_animation(draw, h.frame_t.size, path_stem, fps=fps, figsize=(9.0, 2.2))
