@@ -42,7 +42,7 @@ def test_penalties_sized_for_the_reference_load():
     assert float(r.f_t) == pytest.approx(0.65 * PAPER_TIP_LOAD, rel=1e-8)
 
 
-@given(g=st.floats(-1e-3, -1e-6), frac=st.floats(-1.0, 1.0), a=st.floats(-10, 10))
+@given(g=st.floats(-1e-3, -1e-6), frac=st.floats(-0.999, 0.999), a=st.floats(-10, 10))
 def test_stick_keeps_anchor(g, frac, a):
     limit = 0.65 * 1000.0 * -g
     s = a + frac * limit / 2000.0
@@ -68,8 +68,10 @@ def test_slip_force_is_mu_pn_and_dissipation_is_mu_pn_slip(g, over, sgn, a):
     assert float(r.p_n) == pytest.approx(p_n)
     assert float(r.f_t) == pytest.approx(sgn * limit, rel=1e-12)
     slip = abs(s - a) - limit / 2000.0
-    assert float(r.slip) == pytest.approx(slip, rel=1e-9, abs=1e-15)
-    assert float(r.dissipation) == pytest.approx(0.65 * p_n * slip, rel=1e-9, abs=1e-18)
+    # the anchor travel is a difference of coordinates of order 10 mm: round-off ~1e-14 mm
+    assert float(r.slip) == pytest.approx(slip, rel=1e-9, abs=1e-13)
+    assert float(r.dissipation) == pytest.approx(0.65 * p_n * slip, rel=1e-9, abs=1e-13 * limit)
+    assert float(r.dissipation) == pytest.approx(0.65 * p_n * float(r.slip), rel=1e-12)
     # the mapped state is on the cone and re-mapping it changes nothing
     again = step(g, s, r.anchor, LAW)
     assert int(again.state) == STICK or float(again.slip) < 1e-12

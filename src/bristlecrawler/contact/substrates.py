@@ -6,6 +6,10 @@ built with array-valued fields). ``profile()`` turns the parameters into the com
 :class:`~bristlecrawler.contact.profile.PeriodicProfile` with traceable JAX operations, and
 :func:`~bristlecrawler.contact.profile.project` does the geometry.
 
+A batch of designs for ``jax.vmap(project, in_axes=(0, None))`` needs every field batched:
+``jax.tree.map(lambda *x: jnp.stack(x), *designs)`` stacks designs built one by one (and
+checked one by one).
+
 The solid is the region below the profile (y up, mm). Parameters are checked when the
 object is built from concrete values; errors are :class:`~bristlecrawler.errors.InputError`
 with a one-line message naming the parameter. The paper's substrate (Section 2: "evenly
