@@ -1,0 +1,295 @@
+"""Implicit dynamics: Newmark and HHT-alpha, Rayleigh damping, adaptive time steps.
+
+HHT-alpha (Hilber, Hughes & Taylor 1977; Hughes, *The Finite Element Method*, 2000,
+Sec. 9.3.3), Abaqus sign convention alpha in [-1/3, 0] (default -0.05),
+beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha:
+
+    M a1 + (1 + alpha) r(u1, v1, t1) - alpha r(u0, v0, t0) = 0,
+    r = C v + f_int(u) + sum_k r_k(u, v, t, h_k) - f_ext(t),
+    u1 = u0 + dt v0 + dt^2 ((1/2 - beta) a0 + beta a1),  v1 = v0 + dt ((1 - gamma) a0 + gamma a1).
+
+alpha = 0 is Newmark (beta, gamma free; 1/4, 1/2 = trapezoidal rule, energy conserving for
+linear systems). Kinematics are integrated for the *full* nodal vectors and the constraints
+(supports, rigid links, the actuated body) are imposed at t1 through u1 = expand(q1, t1);
+the residual is projected by J^T = (d expand / dq)^T. This is the index-3 Lagrange-multiplier
+HHT with the multipliers eliminated by the null-space (Jacobian) basis.
+
+Rayleigh damping C v = a0 M v + a1 K_T(u) v, with K_T v a JVP of the internal force.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.errors import InputError, SolverError
+from bristlecrawler.fe import assembly
+from bristlecrawler.fe._pytree import pytree
+from bristlecrawler.fe.newton import newton
+from bristlecrawler.fe.status import STEP_TOO_SMALL, SUCCESS, StepInfo, message
+from bristlecrawler.fe.terms import commit_all, init_histories
+
+
+@pytree()
+class DynState:
+    """t (s); q reduced unknowns; u, v, a full nodal displacement (mm, rad), velocity
+    (mm/s, rad/s), acceleration (mm/s^2, rad/s^2), shape (n_nodes, 3); history of terms."""
+
+    t: Any
+    q: Any
+    u: Any
+    v: Any
+    a: Any
+    history: tuple
+
+
+@dataclasses.dataclass(frozen=True)
+class Integrator:
+    """Time integration scheme and Newton settings (static: part of the compiled step).
+
+    Use :meth:`hht` (default alpha = -0.05) or :meth:`newmark`. rtol, atol: |R| <= rtol F +
+    atol with F the sum of the inertial, internal, damping and external force norms (N).
+    """
+
+    alpha: float = -0.05
+    beta: float = 0.25 * 1.05**2
+    gamma: float = 0.55
+    rtol: float = 1e-9
+    atol: float = 0.0
+    max_iter: int = 12
+
+    @classmethod
+    def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
+        """HHT-alpha, alpha in [-1/3, 0]."""
+        if not (-1.0 / 3.0 <= alpha <= 0.0):
+            raise InputError(f"HHT alpha must be in [-1/3, 0], got {alpha}")
+        return cls(alpha, (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha, **kw)
+
+    @classmethod
+    def newmark(cls, beta: float = 0.25, gamma: float = 0.5, **kw) -> Integrator:
+        """Newmark; the default (1/4, 1/2) is the trapezoidal rule."""
+        if not (beta > 0.0 and gamma >= 0.5):
+            raise InputError(f"Newmark needs beta > 0 and gamma >= 1/2, got {beta}, {gamma}")
+        return cls(0.0, beta, gamma, **kw)
+
+
+@dataclasses.dataclass(frozen=True)
+class Rayleigh:
+    """Rayleigh damping C = a0 M + a1 K: a0 (1/s), a1 (s)."""
+
+    a0: float = 0.0
+    a1: float = 0.0
+
+    @classmethod
+    def from_ratio(cls, zeta: float, omega: float, kind: str = "mass") -> Rayleigh:
+        """Damping ratio ``zeta`` at circular frequency ``omega`` (rad/s).
+
+        kind 'mass' (a0 = 2 zeta omega, the paper's choice), 'stiffness' (a1 = 2 zeta/omega)
+        or 'both' (each half: zeta(omega) = a0/(2 omega) + a1 omega/2 = zeta).
+        """
+        if not (zeta >= 0.0 and omega > 0.0):
+            raise InputError(f"Rayleigh needs zeta >= 0 and omega > 0, got {zeta}, {omega}")
+        if kind == "mass":
+            return cls(2.0 * zeta * omega, 0.0)
+        if kind == "stiffness":
+            return cls(0.0, 2.0 * zeta / omega)
+        if kind == "both":
+            return cls(zeta * omega, zeta / omega)
+        raise InputError(f"Rayleigh kind must be mass, stiffness or both, got {kind!r}")
+
+    def ratio(self, omega):
+        """Damping ratio at circular frequency omega (rad/s)."""
+        return self.a0 / (2.0 * omega) + self.a1 * omega / 2.0
+
+    def apply(self, model):
+        """The model with this damping (no recompile)."""
+        return model.with_params(damping=jnp.asarray([self.a0, self.a1], jnp.float64))
+
+
+def _force(u, v, t, history, params, topo, terms):
+    """r = C v + f_int + terms - f_ext (full) and its force scale."""
+    f_int, Kv = jax.jvp(lambda u: assembly.internal_force(u, params, topo), (u,), (v,))
+    Mv = assembly.mass_times(v, params, topo)
+    damp = params.damping[0] * Mv + params.damping[1] * Kv
+    f_t = assembly.terms_residual(u, v, t, history, params, terms)
+    f_ext = assembly.external_force(t, 1.0, params, topo)
+    scale = sum(jnp.linalg.norm(x) for x in (f_int, damp, f_t, f_ext))
+    return damp + f_int + f_t - f_ext, scale
+
+
+@functools.lru_cache(maxsize=64)
+def make_step(topo, terms=(), integrator: Integrator | None = None):
+    """Jitted ``step(state, params, dt) -> (state, StepInfo)`` for one topology.
+
+    On failure the returned state is the input state (so a driver can cut dt and retry).
+    Works under ``jax.vmap`` over (state, params) batches of the same topology.
+    """
+    ig = Integrator.hht() if integrator is None else integrator
+    al, be, ga = ig.alpha, ig.beta, ig.gamma
+    red = topo.arrays()["red"]
+
+    @jax.jit
+    def step(state, params, dt):
+        t0, t1 = state.t, state.t + dt
+        u0, v0, a0 = state.u, state.v, state.a
+        r0, s0 = _force(u0, v0, t0, state.history, params, topo, terms)
+
+        def kin(q):
+            u = assembly.expand(q, t1, 1.0, params, topo)
+            a = (u - u0 - dt * v0) / (be * dt**2) - (0.5 / be - 1.0) * a0
+            v = v0 + dt * ((1.0 - ga) * a0 + ga * a)
+            return u, v, a
+
+        def residual(q):
+            u, v, a = kin(q)
+            r1, s1 = _force(u, v, t1, state.history, params, topo, terms)
+            Ma = assembly.mass_times(a, params, topo)
+            full = Ma + (1.0 + al) * r1 - al * r0
+            (R,) = jax.vjp(lambda q: assembly.expand(q, t1, 1.0, params, topo), q)[1](full)
+            return R, jnp.linalg.norm(Ma) + s1 + jnp.abs(al) * s0
+
+        q_pred = state.q
+        if topo.n_red:
+            q_pred = q_pred + dt * state.v[red[:, 0], red[:, 1]] + 0.5 * dt**2 * a0[
+                red[:, 0], red[:, 1]]
+        q1, it, rn, F, status = newton(
+            residual, q_pred, topo, rtol=ig.rtol, atol=ig.atol, max_iter=ig.max_iter
+        )
+        u1, v1, a1 = kin(q1)
+        h1 = commit_all(terms, u1, v1, t1, state.history, params)
+        new = DynState(t1, q1, u1, v1, a1, h1)
+        good = status == SUCCESS
+        out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
+        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt)
+        return out, info
+
+    return step
+
+
+def initial_state(model, u=None, q=None, t: float = 0.0, history=None) -> DynState:
+    """Dynamic state at rest at time ``t`` (s), from a static state's ``q`` (or zeros).
+
+    The initial acceleration is the one consistent with the equations of motion, a0 =
+    J M_r^-1 J^T (f_ext - f_int - r_k), M_r = J^T M J (rest: no damping, no velocity terms);
+    it is zero at a static equilibrium.
+    """
+    from bristlecrawler.fe import banded
+
+    topo, params = model.topology, model.params
+    q = jnp.zeros(topo.n_red) if q is None else jnp.asarray(q)
+    hist = init_histories(model) if history is None else history
+    u = assembly.expand(q, t, 1.0, params, topo)
+    v = jnp.zeros_like(u)
+    r, _ = _force(u, v, t, hist, params, topo, model.terms)
+    a = jnp.zeros_like(u)
+    if topo.n_red:
+
+        def expand(q):
+            return assembly.expand(q, t, 1.0, params, topo)
+
+        _, pull = jax.vjp(expand, q)
+
+        def mass_red(w):
+            Jw = jax.jvp(expand, (q,), (w,))[1]
+            return pull(assembly.mass_times(Jw, params, topo))[0]
+
+        _, Mr = banded.extract(mass_red, jnp.zeros_like(q), topo)
+        ar = banded.solve(Mr, -pull(r)[0], topo)
+        a = jax.jvp(expand, (q,), (ar,))[1]
+    return DynState(jnp.asarray(float(t)), q, u, v, a, hist)
+
+
+def energy(state: DynState, model) -> dict[str, float]:
+    """Kinetic, strain and dead-load potential energy (mJ) of a state."""
+    p, topo = model.params, model.topology
+    T = float(assembly.kinetic_energy(state.v, p, topo))
+    V = float(assembly.internal_energy(state.u, p, topo))
+    W = float(jnp.sum(assembly.external_force(state.t, 1.0, p, topo) * state.u))
+    return {"kinetic": T, "strain": V, "load_potential": -W, "total": T + V - W}
+
+
+@dataclasses.dataclass(frozen=True)
+class DynResult:
+    """Adaptive run: final state, accepted times (s), observed values, infos, ok, message."""
+
+    state: DynState
+    times: np.ndarray
+    observed: list
+    infos: list
+    ok: bool
+    message: str
+    rejected: int
+
+
+def integrate(model, state: DynState, t_end: float, dt: float, *,
+              integrator: Integrator | None = None, dt_min: float | None = None,
+              dt_max: float | None = None, grow: float = 1.5, easy_iterations: int = 3,
+              observe=None, throw: bool = True) -> DynResult:
+    """Adaptive time stepping from ``state`` to ``t_end`` (s), starting with step ``dt`` (s).
+
+    A step that fails (Newton limit, NaN) is retried with dt/2; after a step that converged
+    in <= ``easy_iterations`` the step grows by ``grow``; dt stays in [dt_min, dt_max]
+    (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded after every
+    accepted step. Returns :class:`DynResult`; raises SolverError if ``throw`` and dt falls
+    below dt_min.
+    """
+    if not (dt > 0.0 and math.isfinite(dt)):
+        raise InputError(f"dt must be positive, got {dt}")
+    dt_min = dt * 1e-4 if dt_min is None else dt_min
+    dt_max = dt if dt_max is None else dt_max
+    step = make_step(model.topology, model.terms, integrator)
+    params = model.params
+    times, observed, infos = [], [], []
+    rejected = 0
+    h = dt
+    t = float(state.t)
+    while t < t_end - 1e-12 * max(1.0, abs(t_end)):
+        h_try = min(h, t_end - t)
+        new, info = step(state, params, jnp.asarray(h_try))
+        infos.append(info)
+        if int(info.status) == SUCCESS:
+            state, t = new, float(new.t)
+            times.append(t)
+            if observe is not None:
+                observed.append(observe(state))
+            if int(info.iterations) <= easy_iterations:
+                h = min(h * grow, dt_max)
+            continue
+        rejected += 1
+        h = 0.5 * h_try
+        if h < dt_min:
+            where = f"dynamics, step {len(times) + 1}"
+            msg = message(info, where) + f"; dt cut below dt_min = {dt_min:g} s"
+            infos[-1] = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))
+            if throw:
+                raise SolverError(msg)
+            return DynResult(state, np.asarray(times), observed, infos, False, msg, rejected)
+    return DynResult(state, np.asarray(times), observed, infos, True, "converged", rejected)
+
+
+def run_fixed(model_or_topology, state: DynState, params, dt: float, n_steps: int,
+              integrator: Integrator | None = None, terms=()):
+    """``n_steps`` steps of fixed ``dt`` in one compiled ``lax.scan`` (batched runs, bench).
+
+    Returns (final state, StepInfo stacked over steps). A failed step leaves the state
+    unchanged, so check the infos (:func:`status.check`).
+    """
+    topo = getattr(model_or_topology, "topology", model_or_topology)
+    terms = getattr(model_or_topology, "terms", terms)
+    step = make_step(topo, terms, integrator)
+    return _scan(step, state, params, jnp.asarray(dt), n_steps)
+
+
+@functools.partial(jax.jit, static_argnums=(0, 4))
+def _scan(step, state, params, dt, n_steps):
+    def body(s, _):
+        s, info = step(s, params, dt)
+        return s, info
+
+    return jax.lax.scan(body, state, None, length=n_steps)

@@ -1,0 +1,77 @@
+"""Prescribed functions of time: actuator strokes, load amplitudes, support motions.
+
+Each motion is a small PyTree whose parameters are leaves, so a batch of structures can
+differ in stroke amplitude or period under ``jax.vmap``. ``motion(t)`` takes and returns a
+float64 scalar. Units are those of the quantity it prescribes (mm for displacements,
+rad for rotations, 1 for load amplitudes); ``t`` is in s.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import jax.numpy as jnp
+
+from bristlecrawler.fe._pytree import pytree
+
+
+@pytree()
+class Constant:
+    """``value`` at all times."""
+
+    value: float = 0.0
+
+    def __call__(self, t):
+        return jnp.asarray(self.value, dtype=jnp.float64) + 0.0 * t
+
+
+@pytree()
+class Sin2:
+    """Paper stroke s(t) = s~ sin^2(pi t / T) (Section 3): ``amplitude`` s~, ``period`` T (s)."""
+
+    amplitude: float
+    period: float
+
+    def __call__(self, t):
+        return self.amplitude * jnp.sin(jnp.pi * t / self.period) ** 2
+
+
+@pytree()
+class Ramp:
+    """Linear rise from 0 at t = 0 to ``value`` at t = ``duration`` (s), then constant."""
+
+    value: float
+    duration: float
+
+    def __call__(self, t):
+        return self.value * jnp.clip(t / self.duration, 0.0, 1.0)
+
+
+@pytree()
+class Sine:
+    """``amplitude`` sin(``omega`` t), omega in rad/s."""
+
+    amplitude: float
+    omega: float
+
+    def __call__(self, t):
+        return self.amplitude * jnp.sin(self.omega * t)
+
+
+@pytree(meta=("fn",))
+class TimeFunction:
+    """Any JAX-traceable ``fn(t)``; the function is static (not batched by ``vmap``)."""
+
+    fn: Callable
+
+    def __call__(self, t):
+        return jnp.asarray(self.fn(t), dtype=jnp.float64)
+
+
+def as_motion(value) -> object:
+    """A number becomes :class:`Constant`; a motion is returned as is; a callable is wrapped."""
+    if isinstance(value, Constant | Sin2 | Ramp | Sine | TimeFunction):
+        return value
+    if callable(value):
+        return TimeFunction(value)
+    return Constant(float(value))

@@ -1,0 +1,192 @@
+"""Static equilibrium: Newton with line search and adaptive load stepping.
+
+Solves J^T [f_int(u) + sum r_k(u, 0, t, h_k) - lam f_ext(t)] = 0 with u = expand(q, t, lam)
+for lam from ``lam_start`` to 1 (loads, gravity, prescribed motions and link stretches
+ramped together). The increment is halved when Newton fails and grown by ``grow`` after an
+easy increment, between ``min_increment`` and ``max_increment``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.fe import assembly, banded
+from bristlecrawler.fe._pytree import pytree
+from bristlecrawler.fe.newton import newton
+from bristlecrawler.fe.status import STEP_TOO_SMALL, SUCCESS, StepInfo, check, message
+from bristlecrawler.fe.terms import commit_all, init_histories
+
+
+@pytree()
+class StaticState:
+    """Equilibrium state: q reduced unknowns, u full displacements (n_nodes, 3) [mm, rad],
+    history of the extra terms, time t (s) and load factor lam."""
+
+    q: Any
+    u: Any
+    history: tuple
+    t: Any
+    lam: Any
+
+
+@dataclasses.dataclass(frozen=True)
+class StaticOptions:
+    """rtol, atol: |R| <= rtol F + atol (F force scale, N); max_iter per increment;
+    increments: initial number of load increments; min_increment, max_increment, grow:
+    adaptive bounds; easy_iterations: an increment this cheap lets the next one grow."""
+
+    rtol: float = 1e-10
+    atol: float = 0.0
+    max_iter: int = 30
+    increments: int = 1
+    min_increment: float = 1e-4
+    max_increment: float = 1.0
+    grow: float = 1.5
+    easy_iterations: int = 4
+
+
+@dataclasses.dataclass(frozen=True)
+class StaticResult:
+    """Final state, per-increment infos, success flag and message."""
+
+    state: StaticState
+    infos: list
+    ok: bool
+    message: str
+
+
+def static_residual(q, t, lam, history, params, topo, terms):
+    """Reduced static residual and force scale F (N)."""
+    u, pull = jax.vjp(lambda q: assembly.expand(q, t, lam, params, topo), q)
+    f_int = assembly.internal_force(u, params, topo)
+    f_ext = assembly.external_force(t, lam, params, topo)
+    f_t = assembly.terms_residual(u, jnp.zeros_like(u), t, history, params, terms)
+    (R,) = pull(f_int + f_t - f_ext)
+    F = jnp.linalg.norm(f_int) + jnp.linalg.norm(f_ext) + jnp.linalg.norm(f_t)
+    return R, F
+
+
+@functools.lru_cache(maxsize=64)
+def make_static_solver(topo, terms, rtol, atol, max_iter):
+    """Jitted ``solve(q0, params, t, lam, history) -> (q, u, StepInfo)`` for one topology."""
+
+    @jax.jit
+    def solve(q0, params, t, lam, history):
+        def res(q):
+            return static_residual(q, t, lam, history, params, topo, terms)
+
+        q, it, rn, F, status = newton(res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter)
+        u = assembly.expand(q, t, lam, params, topo)
+        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
+        return q, u, info
+
+    return solve
+
+
+def initial_static_state(model, t: float = 0.0) -> StaticState:
+    """Undeformed state (q = 0, lam = 0) at time t."""
+    topo = model.topology
+    q = jnp.zeros(topo.n_red)
+    u = assembly.expand(q, t, 0.0, model.params, topo)
+    return StaticState(q, u, init_histories(model), jnp.asarray(float(t)), jnp.asarray(0.0))
+
+
+def solve_static(model, t: float = 0.0, state: StaticState | None = None,
+                 options: StaticOptions | None = None, check_support: bool | None = None,
+                 throw: bool = True) -> StaticResult:
+    """Equilibrium at time ``t`` (s) and load factor 1, by load stepping from ``state``.
+
+    ``check_support`` (default: when the model has no extra terms) first refuses a
+    structure whose stiffness is singular (under-constrained) with InputError.
+    """
+    options = StaticOptions() if options is None else options
+    topo, params = model.topology, model.params
+    if check_support is None:
+        check_support = not model.terms
+    if check_support:
+        check_supported(model, t)
+    solver = make_static_solver(topo, model.terms, options.rtol, options.atol, options.max_iter)
+    state = initial_static_state(model, t) if state is None else state
+    lam = float(state.lam) if float(state.t) == float(t) else 0.0
+    dlam = min(options.max_increment, 1.0 / max(options.increments, 1))
+    infos: list = []
+    q, hist = state.q, state.history
+    while lam < 1.0:
+        target = min(1.0, lam + dlam)
+        q1, u1, info = solver(q, params, jnp.asarray(float(t)), jnp.asarray(target), hist)
+        infos.append(info)
+        if int(info.status) == SUCCESS:
+            lam, q = target, q1
+            hist = commit_all(model.terms, u1, jnp.zeros_like(u1), t, hist, params)
+            if int(info.iterations) <= options.easy_iterations:
+                dlam = min(dlam * options.grow, options.max_increment)
+            continue
+        dlam *= 0.5
+        if dlam < options.min_increment:
+            where = f"static solve, increment {len(infos)}"
+            msg = message(info, where) + f"; increment cut below {options.min_increment:g}"
+            bad = StepInfo(jnp.asarray(STEP_TOO_SMALL), info.iterations, info.residual,
+                           info.rel_residual, info.t, info.dt, info.lam)
+            infos[-1] = bad
+            check(bad, where, throw=False)
+            if throw:
+                from bristlecrawler.errors import SolverError
+
+                raise SolverError(msg)
+            u = assembly.expand(q, t, lam, params, topo)
+            return StaticResult(StaticState(q, u, hist, jnp.asarray(float(t)),
+                                            jnp.asarray(lam)), infos, False, msg)
+    u = assembly.expand(q, t, 1.0, params, topo)
+    final = StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(1.0))
+    return StaticResult(final, infos, True, "converged")
+
+
+def tangent(model, q, t: float = 0.0, lam: float = 1.0, history=None):
+    """Reduced tangent stiffness at ``q`` as a :class:`banded.BlockSystem`."""
+    topo, params = model.topology, model.params
+    history = init_histories(model) if history is None else history
+
+    def res(q):
+        return static_residual(q, t, lam, history, params, topo, model.terms)[0]
+
+    return banded.extract(res, q, topo)[1]
+
+
+def check_supported(model, t: float = 0.0) -> None:
+    """InputError naming a DOF if the stiffness at the reference state is singular.
+
+    The tangent is scaled to unit diagonal and factorised (SuperLU); a pivot below 1e-10
+    of the largest flags a mechanism (a free rigid motion or an unrestrained rotation).
+    """
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from bristlecrawler.errors import InputError
+
+    topo = model.topology
+    if topo.n_red == 0:
+        return
+    K = banded.to_scipy(tangent(model, jnp.zeros(topo.n_red), t, 0.0), topo)
+    K = 0.5 * (K + K.T)
+    d = np.abs(K.diagonal())
+    zero = np.flatnonzero(d <= 1e-14 * max(d.max(), 1e-300))
+    if zero.size:
+        raise InputError(
+            f"under-constrained structure: no stiffness on {topo.dof_label(int(zero[0]))} "
+            "(add a support, spring or contact)"
+        )
+    s = sp.diags(1.0 / np.sqrt(d))
+    lu = spla.splu((s @ K @ s).tocsc(), permc_spec="NATURAL", diag_pivot_thresh=1.0)
+    piv = np.abs(lu.U.diagonal())
+    k = int(np.argmin(piv))
+    if piv[k] < 1e-10 * piv.max():
+        raise InputError(
+            f"under-constrained structure: stiffness singular (mechanism) at "
+            f"{topo.dof_label(int(lu.perm_c[k]))} (add a support, spring or contact)"
+        )

@@ -1,0 +1,52 @@
+"""Extra residual terms with history variables: the plug for contact and friction.
+
+The residual of every solver is a sum of terms,
+
+    R = J^T [ M a + C v + f_int(u) - f_ext(t) + sum_k r_k(u, v, t, h_k) ],
+
+where J is the Jacobian of the constraint map (:func:`assembly.expand`) and r_k are the
+extra terms (internal-force sign: a penalty contact reaction pushing a node up enters as a
+negative y component). Each term is a hashable object (it is part of the compiled program)
+with three pure methods; its numeric parameters live in ``params.extra[k]`` so they can be
+batched:
+
+* ``residual(u, v, t, history, params) -> (n_nodes, 3)`` contribution at the trial state
+  (u, v full nodal displacements / velocities); ``history`` is the committed value from the
+  last converged step (e.g. stick anchors for Coulomb friction, return mapping inside).
+* ``init_history(topology, params) -> PyTree`` initial history.
+* ``commit(u, v, t, history, params) -> PyTree`` history after a converged step.
+
+Tangents come from autodiff of ``residual``. Sparsity contract: the contribution at node i
+may depend only on the DOFs of node i (or of nodes rigidly linked to it); the banded tangent
+extraction relies on it. Static solves call it with v = 0.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Protocol
+
+
+class Term(Protocol):
+    """Interface of an extra residual term (see module docstring)."""
+
+    def residual(self, u: Any, v: Any, t: Any, history: Any, params: Any) -> Any: ...
+
+    def init_history(self, topology: Any, params: Any) -> Any: ...
+
+    def commit(self, u: Any, v: Any, t: Any, history: Any, params: Any) -> Any: ...
+
+
+def init_histories(model) -> tuple:
+    """Initial history of every term of ``model``."""
+    return tuple(
+        term.init_history(model.topology, p)
+        for term, p in zip(model.terms, model.params.extra, strict=True)
+    )
+
+
+def commit_all(terms, u, v, t, history, params) -> tuple:
+    """Histories after a converged step."""
+    return tuple(
+        term.commit(u, v, t, h, p)
+        for term, h, p in zip(terms, history, params.extra, strict=True)
+    )
