@@ -39,7 +39,11 @@ class StaticState:
 class StaticOptions:
     """rtol, atol: |R| <= rtol F + atol (F force scale, N); max_iter per increment;
     increments: initial number of load increments; min_increment, max_increment, grow:
-    adaptive bounds; easy_iterations: an increment this cheap lets the next one grow."""
+    adaptive bounds; easy_iterations: an increment this cheap lets the next one grow;
+    max_rotation: largest nodal rotation change (rad) accepted in one increment. Rotations
+    enter the energy only modulo 2 pi (local rotations are wrapped), so an over-long
+    increment can land on a state whose nodal rotations are off by 2 pi; limiting the
+    increment keeps the rotation field continuous along the load path."""
 
     rtol: float = 1e-10
     atol: float = 0.0
@@ -49,6 +53,7 @@ class StaticOptions:
     max_increment: float = 1.0
     grow: float = 1.5
     easy_iterations: int = 4
+    max_rotation: float = 1.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,7 +86,8 @@ def make_static_solver(topo, terms, rtol, atol, max_iter):
         def res(q):
             return static_residual(q, t, lam, history, params, topo, terms)
 
-        q, it, rn, F, status = newton(res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter)
+        q, it, rn, F, status = newton(res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter,
+                                       xscale=jnp.linalg.norm(params.X))
         u = assembly.expand(q, t, lam, params, topo)
         info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
         return q, u, info
@@ -121,7 +127,9 @@ def solve_static(model, t: float = 0.0, state: StaticState | None = None,
         target = min(1.0, lam + dlam)
         q1, u1, info = solver(q, params, jnp.asarray(float(t)), jnp.asarray(target), hist)
         infos.append(info)
-        if int(info.status) == SUCCESS:
+        u_prev = assembly.expand(q, t, lam, params, topo)
+        too_far = float(jnp.max(jnp.abs(u1[:, 2] - u_prev[:, 2]))) > options.max_rotation
+        if int(info.status) == SUCCESS and not too_far:
             lam, q = target, q1
             hist = commit_all(model.terms, u1, jnp.zeros_like(u1), t, hist, params)
             if int(info.iterations) <= options.easy_iterations:
@@ -147,15 +155,41 @@ def solve_static(model, t: float = 0.0, state: StaticState | None = None,
     return StaticResult(final, infos, True, "converged")
 
 
+@functools.lru_cache(maxsize=64)
+def _tangent_fn(topo, terms):
+    @jax.jit
+    def fn(q, params, t, lam, history):
+        def res(q):
+            return static_residual(q, t, lam, history, params, topo, terms)[0]
+
+        return banded.extract(res, q, topo)[1]
+
+    return fn
+
+
 def tangent(model, q, t: float = 0.0, lam: float = 1.0, history=None):
-    """Reduced tangent stiffness at ``q`` as a :class:`banded.BlockSystem`."""
-    topo, params = model.topology, model.params
+    """Reduced tangent stiffness at ``q`` as a :class:`banded.BlockSystem` (compiled)."""
     history = init_histories(model) if history is None else history
+    fn = _tangent_fn(model.topology, model.terms)
+    return fn(jnp.asarray(q), model.params, jnp.asarray(float(t)), jnp.asarray(float(lam)),
+              history)
 
-    def res(q):
-        return static_residual(q, t, lam, history, params, topo, model.terms)[0]
 
-    return banded.extract(res, q, topo)[1]
+def linear_solve(model, load, t: float = 0.0):
+    """Small-displacement response K u = f about the reference state (full u, mm / rad).
+
+    ``load``: full nodal force vector (n_nodes, 3) [N, N, N mm]; prescribed DOFs stay 0.
+    """
+    topo = model.topology
+    q0 = jnp.zeros(topo.n_red)
+    K = tangent(model, q0, t, 0.0)
+
+    def expand(q):
+        return assembly.expand(q, t, 0.0, model.params, topo)
+
+    _, pull = jax.vjp(expand, q0)
+    q = banded.solve(K, pull(jnp.asarray(load))[0], topo)
+    return jax.jvp(expand, (q0,), (q,))[1]
 
 
 def check_supported(model, t: float = 0.0) -> None:
