@@ -33,10 +33,11 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import experiment, reduced
+    from bristlecrawler.cli import experiment, reduced, verify
 
     reduced.register(app)
     experiment.register(app)
+    verify.register(app)
 
 
 _register()
