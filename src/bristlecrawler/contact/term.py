@@ -1,0 +1,107 @@
+"""Node-to-rigid-substrate frictional contact as an extra residual term of the FE solvers.
+
+Plugs :func:`bristlecrawler.contact.node.node_force` into the term protocol of
+:mod:`bristlecrawler.fe.terms`: the residual adds, at every contact node, the contact
+contribution to the internal force (penalty normal force, Coulomb friction with a stick
+anchor as history); the tangent comes from autodiff through the return mapping, so it is
+the consistent, non-symmetric one. The history is committed only after a converged step
+(never inside Newton), and it accumulates the exact frictional dissipation
+``sum mu p_N |Delta anchor|``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.contact._pytree import pytree_dataclass
+from bristlecrawler.contact.coulomb import CoulombLaw
+from bristlecrawler.contact.node import node_force, node_step
+from bristlecrawler.contact.profile import project
+from bristlecrawler.errors import InputError
+
+
+@pytree_dataclass
+class ContactParams:
+    """Numeric parameters of a contact term (batchable leaves).
+
+    Attributes:
+        X: reference positions of the contact nodes, mm, (k, 2).
+        substrate: the rigid substrate (a PyTree from :mod:`.substrates`).
+        law: the :class:`CoulombLaw` (mu, penalty stiffnesses).
+    """
+
+    X: Any
+    substrate: Any
+    law: Any
+
+
+@pytree_dataclass
+class ContactHistory:
+    """Committed per-node history: stick anchor (mm, arc length on the substrate),
+    cumulative frictional dissipation (mJ), state (0 open, 1 stick, 2 slip), normal force
+    p_N (N) and tangential force f_t (N) of the last converged step."""
+
+    anchor: Any
+    dissipation: Any
+    state: Any
+    p_n: Any
+    f_t: Any
+
+
+@dataclasses.dataclass(frozen=True)
+class SubstrateContact:
+    """Contact of the FE nodes ``nodes`` (static, hashable) with a rigid substrate."""
+
+    nodes: tuple[int, ...]
+
+    def __post_init__(self) -> None:
+        if len(self.nodes) == 0:
+            raise InputError("contact term needs at least one node")
+        if len(set(self.nodes)) != len(self.nodes):
+            raise InputError("contact term: a node is listed twice")
+
+    @staticmethod
+    def params(model_X: np.ndarray, nodes, substrate, law: CoulombLaw) -> ContactParams:
+        """Parameters for ``nodes`` of a structure with reference positions ``model_X``."""
+        X = jnp.asarray(np.asarray(model_X, float)[np.asarray(nodes, int), :2])
+        return ContactParams(X=X, substrate=substrate, law=law)
+
+    def _x(self, u, params):
+        return params.X + u[jnp.asarray(self.nodes), :2]
+
+    def residual(self, u, v, t, history, params):
+        x = self._x(u, params)
+        f = jax.vmap(node_force, in_axes=(0, 0, None, None))(
+            x, history.anchor, params.substrate, params.law
+        )
+        return jnp.zeros_like(u).at[jnp.asarray(self.nodes), :2].add(f)
+
+    def init_history(self, topology, params):
+        """Anchors at the reference positions (a run that starts from the reference)."""
+        return self.history_at(jnp.zeros((topology.n_nodes, 3)), params)
+
+    def history_at(self, u, params):
+        """Fresh history with every node stuck where it is at displacement ``u``; pass it
+        to ``fe.initial_state(..., history=...)`` when a run starts away from the reference
+        (otherwise the first step would see a slip from the reference position)."""
+        s0 = jax.vmap(lambda p: project(params.substrate, p).arc_length)(self._x(u, params))
+        z = jnp.zeros_like(s0)
+        return ContactHistory(s0, z, jnp.zeros(s0.shape, jnp.int32), z, z)
+
+    def commit(self, u, v, t, history, params):
+        x = self._x(u, params)
+        anchor, step = jax.vmap(node_step, in_axes=(0, 0, None, None))(
+            x, history.anchor, params.substrate, params.law
+        )
+        return ContactHistory(
+            anchor,
+            history.dissipation + step.dissipation,
+            step.state.astype(jnp.int32),
+            step.p_n,
+            step.f_t,
+        )
