@@ -17,12 +17,15 @@ from bristlecrawler.fe import (
     run_fixed,
     solve_static,
 )
-from bristlecrawler.verification.cases import cantilever
+from bristlecrawler.verification.cases import N_ELEM, cantilever
+
+# Same mesh and scheme as the verification's energy case: the compiled programs are shared.
+SCHEME = Integrator.newmark(0.25, 0.5, rtol=1e-12)
 
 
 @pytest.fixture(scope="module")
 def model():
-    m = cantilever(8)
+    m = cantilever(N_ELEM)
     return m.with_params(load_vec=jnp.asarray([[0.0, 0.0, 0.0]]))
 
 
@@ -34,7 +37,7 @@ def _released(m, scale=1e-3):
 
 
 def test_vmap_step_matches_individual_runs(model):
-    step = make_step(model.topology, model.terms, Integrator.hht())
+    step = make_step(model.topology, model.terms, SCHEME)
     Es = np.array([0.8, 1.0, 1.3])
     designs = [model.with_params(sec=model.params.sec.at[:, 0].set(E)) for E in Es]
     states = [_released(d) for d in designs]
@@ -56,27 +59,31 @@ def test_vmap_step_matches_individual_runs(model):
 
 def test_mass_damping_dissipates_and_undamped_conserves(model):
     s0 = _released(model)
-    T1 = 2 * np.pi / (1.8751**2 * np.sqrt(1e-6 / 12 / 1e-2))
+    EI, rhoA = 1e-6 / 12, 1e-2  # cantilever(): E = 1 MPa, b = 1 mm, h = 0.01 mm, rho = 1
+    T1 = 2 * np.pi / (1.8751**2 * np.sqrt(EI / rhoA))
     dt = T1 / 20
-    ig = Integrator.newmark()
+    ig = SCHEME
     E0 = energy(s0, model)["total"]
-    free, _ = run_fixed(model, s0, model.params, dt, 200, ig)
+    free, _ = run_fixed(model, s0, model.params, dt, 100, ig)
     damped_model = Rayleigh.from_ratio(0.05, 2 * np.pi / T1).apply(model)
-    damped, _ = run_fixed(damped_model, s0, damped_model.params, dt, 200, ig)
+    damped, _ = run_fixed(damped_model, s0, damped_model.params, dt, 100, ig)
     assert abs(energy(free, model)["total"] - E0) < 1e-6 * E0
-    # Mass-proportional damping at 5 % of critical: energy ~ exp(-2 zeta w t), 10 periods.
-    assert energy(damped, model)["total"] < 0.1 * E0
+    # Mass-proportional damping, 5 % of critical: energy ~ exp(-2 zeta w t) = e^-3.1 after
+    # 5 periods (bound e^-2.5 leaves room for the higher modes' smaller modal damping).
+    assert energy(damped, model)["total"] < np.exp(-2.5) * E0
 
 
 def test_failure_is_a_status_and_throw_raises(model):
-    step = make_step(model.topology, model.terms, Integrator.hht(max_iter=1, rtol=1e-14))
-    s0 = _released(model, scale=2.0)
-    s1, info = step(s0, model.params, jnp.asarray(1e3))
+    step = make_step(model.topology, model.terms, SCHEME)
+    s0 = _released(model)
+    bad = model.with_params(sec=model.params.sec.at[3, 0].set(jnp.nan))  # E = NaN
+    s1, info = step(s0, bad.params, jnp.asarray(1.0))
     assert int(info.status) != 0
     assert np.array_equal(np.asarray(s1.u), np.asarray(s0.u))  # state untouched
-    assert "t = " in message(info, "dynamics") and "iterations" in message(info, "dynamics")
+    text = message(info, "dynamics")
+    assert "t = " in text and "NaN" in text
     big = model.with_params(load_vec=jnp.asarray([[0.0, 1.0, 0.0]]))
-    opts = StaticOptions(max_iter=1, min_increment=0.3, rtol=1e-14)
+    opts = StaticOptions(min_increment=0.3, max_rotation=1e-3)
     res = solve_static(big, options=opts, throw=False)
     assert not res.ok and "load factor" in res.message
     with pytest.raises(SolverError, match="static solve"):

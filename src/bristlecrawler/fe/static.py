@@ -19,7 +19,14 @@ import numpy as np
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.newton import newton
-from bristlecrawler.fe.status import STEP_TOO_SMALL, SUCCESS, StepInfo, check, message
+from bristlecrawler.fe.status import (
+    ROTATION_LIMIT,
+    STEP_TOO_SMALL,
+    SUCCESS,
+    StepInfo,
+    check,
+    message,
+)
 from bristlecrawler.fe.terms import commit_all, init_histories
 
 
@@ -135,6 +142,9 @@ def solve_static(model, t: float = 0.0, state: StaticState | None = None,
             if int(info.iterations) <= options.easy_iterations:
                 dlam = min(dlam * options.grow, options.max_increment)
             continue
+        if too_far and int(info.status) == SUCCESS:
+            info = dataclasses.replace(info, status=jnp.asarray(ROTATION_LIMIT))
+            infos[-1] = info
         dlam *= 0.5
         if dlam < options.min_increment:
             where = f"static solve, increment {len(infos)}"

@@ -17,6 +17,7 @@ MAX_ITERATIONS = 1
 NONFINITE = 2
 STEP_TOO_SMALL = 3
 SINGULAR = 4
+ROTATION_LIMIT = 5
 
 _TEXT = {
     SUCCESS: "converged",
@@ -24,6 +25,7 @@ _TEXT = {
     NONFINITE: "residual or solution became NaN/inf (singular tangent or diverging iterate)",
     STEP_TOO_SMALL: "step cut below its minimum without convergence",
     SINGULAR: "tangent is singular",
+    ROTATION_LIMIT: "increment rotated a node by more than the allowed rotation increment",
 }
 
 
