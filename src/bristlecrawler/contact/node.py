@@ -4,6 +4,13 @@ This is the piece an FE solver calls per contact node (node-to-analytic-surface 
 Wriggers 2006, Sec. 4.1): ``x`` is the current position of the node (mm), ``anchor`` its
 stick anchor in the arc-length coordinate of the substrate. Vectorise with ``jax.vmap``
 over nodes (``in_axes=(0, 0, None, None)``).
+
+``radius`` (mm, >= 0) makes the node a disc: the gap is the signed distance of the node
+minus the radius, i.e. contact with the substrate offset by ``radius``. A beam node with
+``radius = h/2`` touches the substrate with the beam's surface rather than its axis (the
+envelope of the discs along a beam approximates its faces; a disc rolls over a land corner
+with the contact normal turning continuously). Friction acts on the node's translation;
+the moment of the friction force about the node (arm ``radius``) is neglected.
 """
 
 from __future__ import annotations
@@ -23,36 +30,38 @@ from bristlecrawler.contact.profile import project
 jax.config.update("jax_enable_x64", True)
 
 
-def _gs(x: jax.Array, substrate) -> jax.Array:
+def _gs(x: jax.Array, substrate, radius=0.0) -> jax.Array:
     pr = project(substrate, x)
-    return jnp.stack([pr.gap, pr.arc_length])
+    return jnp.stack([pr.gap - radius, pr.arc_length])
 
 
-def node_potential(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0) -> jax.Array:
+def node_potential(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0) -> jax.Array:
     """Incremental contact potential of one node at ``x`` (2,), mJ.
 
     ``jax.grad`` w.r.t. ``x`` is the contact contribution to the internal-force vector
     (the substrate pushes the node with minus it); ``jax.hessian`` the symmetric tangent
     with the normal force frozen in the friction term.
     """
-    g, s = _gs(x, substrate)
+    g, s = _gs(x, substrate, radius)
     return incremental_potential(g, s, anchor, law, lambda_n)
 
 
-def node_force(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0) -> jax.Array:
+def node_force(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0) -> jax.Array:
     """Contact contribution to the internal-force vector of a node, ``dPhi/dx``, N, (2,).
 
     Exact for the non-associative law, so ``jax.jacfwd`` of it w.r.t. ``x`` is the
     consistent non-symmetric tangent (N/mm).
     """
-    gs = _gs(x, substrate)
-    dgs = jax.jacfwd(_gs)(x, substrate)  # rows: grad g = n, grad s = t / (1 - kappa g)
+    gs = _gs(x, substrate, radius)
+    dgs = jax.jacfwd(_gs)(x, substrate, radius)  # rows: grad g = n, grad s = t / (1 - kappa g)
     fg, fs = generalized_forces(gs[0], gs[1], anchor, law, lambda_n)
     return fg * dgs[0] + fs * dgs[1]
 
 
-def node_step(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0) -> tuple[jax.Array, CoulombStep]:
+def node_step(
+    x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0
+) -> tuple[jax.Array, CoulombStep]:
     """Accept a converged step: ``(new_anchor, CoulombStep)`` for a node at ``x``."""
-    g, s = _gs(x, substrate)
+    g, s = _gs(x, substrate, radius)
     step = return_map(g, s, anchor, law, lambda_n)
     return step.anchor, step

@@ -33,11 +33,14 @@ class ContactParams:
         X: reference positions of the contact nodes, mm, (k, 2).
         substrate: the rigid substrate (a PyTree from :mod:`.substrates`).
         law: the :class:`CoulombLaw` (mu, penalty stiffnesses).
+        radius: contact radius of each node, mm, (k,): the node touches the substrate with
+            a disc of this radius (0: the node itself; h/2: a beam's surface).
     """
 
     X: Any
     substrate: Any
     law: Any
+    radius: Any
 
 
 @pytree_dataclass
@@ -66,18 +69,24 @@ class SubstrateContact:
             raise InputError("contact term: a node is listed twice")
 
     @staticmethod
-    def params(model_X: np.ndarray, nodes, substrate, law: CoulombLaw) -> ContactParams:
-        """Parameters for ``nodes`` of a structure with reference positions ``model_X``."""
+    def params(
+        model_X: np.ndarray, nodes, substrate, law: CoulombLaw, radius=0.0
+    ) -> ContactParams:
+        """Parameters for ``nodes`` of a structure with reference positions ``model_X``;
+        ``radius`` (mm) is one value or one per node."""
         X = jnp.asarray(np.asarray(model_X, float)[np.asarray(nodes, int), :2])
-        return ContactParams(X=X, substrate=substrate, law=law)
+        r = np.broadcast_to(np.asarray(radius, float), (X.shape[0],))
+        if not np.all(np.isfinite(r)) or np.any(r < 0):
+            raise InputError("contact radius must be finite and >= 0 mm")
+        return ContactParams(X=X, substrate=substrate, law=law, radius=jnp.asarray(r))
 
     def _x(self, u, params):
         return params.X + u[jnp.asarray(self.nodes), :2]
 
     def residual(self, u, v, t, history, params):
         x = self._x(u, params)
-        f = jax.vmap(node_force, in_axes=(0, 0, None, None))(
-            x, history.anchor, params.substrate, params.law
+        f = jax.vmap(node_force, in_axes=(0, 0, None, None, None, 0))(
+            x, history.anchor, params.substrate, params.law, 0.0, params.radius
         )
         return jnp.zeros_like(u).at[jnp.asarray(self.nodes), :2].add(f)
 
@@ -95,8 +104,8 @@ class SubstrateContact:
 
     def commit(self, u, v, t, history, params):
         x = self._x(u, params)
-        anchor, step = jax.vmap(node_step, in_axes=(0, 0, None, None))(
-            x, history.anchor, params.substrate, params.law
+        anchor, step = jax.vmap(node_step, in_axes=(0, 0, None, None, None, 0))(
+            x, history.anchor, params.substrate, params.law, 0.0, params.radius
         )
         return ContactHistory(
             anchor,

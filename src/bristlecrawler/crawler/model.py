@@ -73,19 +73,34 @@ def stroke_duration(sc: Scenario) -> float:
     return float(st.t[-1])
 
 
-def build_crawler(sc: Scenario, contact: str = "tip", penalty_load: float | None = None):
-    """Build the FE model of scenario ``sc``; ``contact`` is "tip" or "all" bristle nodes."""
+def build_crawler(
+    sc: Scenario,
+    contact: str | None = None,
+    penalty_load: float | None = None,
+    surface: bool | None = None,
+):
+    """Build the FE model of scenario ``sc``.
+
+    ``contact`` ("tip" or "all" bristle nodes), ``surface`` (contact with the beam surface,
+    a disc of radius h/2 around each node) and ``penalty_load`` (N) override the scenario's
+    ``[contact]`` table.
+    """
     from bristlecrawler import fe
     from bristlecrawler.contact.coulomb import CoulombLaw
     from bristlecrawler.contact.term import SubstrateContact
 
     b, br = sc.body, sc.bristle
+    contact = sc.contact.nodes if contact is None else contact
+    surface = sc.contact.surface if surface is None else surface
+    penalty_load = sc.contact.penalty_load if penalty_load is None else penalty_load
     alpha = math.radians(br.alpha_deg)
+    # Contact radius of the tip: the tip's axis sits half a thickness above the surface.
+    r_tip = 0.5 * br.thickness_tip if surface else 0.0
     # Tips start pressed by the static penetration (1 micrometre at the weight) so that the
     # contact is closed from the first Newton iteration: an open contact leaves the body's
     # horizontal translation unrestrained and the gravity solve singular.
     pen = 1e-3
-    drop = br.length * math.cos(alpha) - pen
+    drop = br.length * math.cos(alpha) + r_tip - pen
     y_end = b.link_length + drop
     s = fe.Structure()
     left = s.node(0.0, y_end)
@@ -109,16 +124,23 @@ def build_crawler(sc: Scenario, contact: str = "tip", penalty_load: float | None
         x0 = b.length if end == right else 0.0
         clamp = s.node(x0, drop)
         s.rigid_link(clamp, end)
-        tip = (x0 - br.length * math.sin(alpha), -pen)
+        tip = (x0 - br.length * math.sin(alpha), r_tip - pen)
         chains.append(tuple(s.chain(clamp, tip, br.elements, section)))
         clamps.append(clamp)
     s.gravity(0.0, -sc.gravity)
+    n_el = br.elements
     if contact == "tip":
         cnodes = (chains[0][-1], chains[1][-1])
+        frac = np.ones(2)
     elif contact == "all":
-        cnodes = chains[0][1:] + chains[1][1:]
+        # Tips first (their states are the tips' contact states), then the other nodes.
+        cnodes = (chains[0][-1], chains[1][-1], *chains[0][1:-1], *chains[1][1:-1])
+        inner = np.arange(1, n_el) / n_el
+        frac = np.concatenate([[1.0, 1.0], inner, inner])
     else:
         raise InputError(f"contact must be 'tip' or 'all', got {contact!r}")
+    thickness = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac
+    radius = 0.5 * thickness if surface else np.zeros_like(thickness)
     # Penalties sized for the weight on one bristle (or a given peak load): penetration
     # below 1 micrometre and stick drift below 1e-4 mm at that load.
     weight = (
@@ -128,7 +150,9 @@ def build_crawler(sc: Scenario, contact: str = "tip", penalty_load: float | None
     law = CoulombLaw.for_reference_load(sc.substrate.mu, load=penalty_load or weight / 2)
     X = np.asarray(s._X)  # reference coordinates (builder internal, read-only use)
     term = SubstrateContact(tuple(int(n) for n in cnodes))
-    s.add_term(term, SubstrateContact.params(X, term.nodes, sc.substrate.build(), law))
+    s.add_term(
+        term, SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, radius=radius)
+    )
     model = s.build()
     lines = [(left, right), (left, clamps[0]), (right, clamps[1])]
     kinds = [0, 1, 1]

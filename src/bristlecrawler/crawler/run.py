@@ -30,9 +30,10 @@ from bristlecrawler.scenario.schema import Scenario
 
 @dataclass(frozen=True)
 class RunOptions:
-    """contact: "tip" or "all" nodes; dt0: first step, s; progress: show a progress bar."""
+    """contact: "tip" or "all" nodes (None: the scenario's); dt0: first step, s; progress:
+    show a progress bar."""
 
-    contact: str = "tip"
+    contact: str | None = None
     dt0: float = 1e-3
     progress: bool | None = None
     # First-frequency estimate for the settle only (replaced by modal analysis after it).
@@ -159,7 +160,14 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             rejected += res.rejected
             records.extend(jax.device_get(observe(s, model.params)) for s in res.observed)
             if not res.ok:
-                raise SolverError(f"stroke step near t = {float(res.state.t):.4g} s: {res.message}")
+                err = SolverError(f"stroke step near t = {float(res.state.t):.4g} s: {res.message}")
+                # The run up to the failure, for diagnosis (figures, contact states).
+                err.partial = _history(
+                    cm, sc, records, omega1, damping, time.perf_counter() - wall0,
+                    iterations, rejected, settle,
+                )
+                err.state = res.state
+                raise err
             state = res.state
             t = float(state.t)
             if res.infos:

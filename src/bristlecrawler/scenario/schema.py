@@ -99,6 +99,26 @@ class OutputConfig(_Section):
     animation: bool = True
 
 
+class ContactConfig(_Section):
+    """Contact of the bristles with the substrate."""
+
+    nodes: Literal["tip", "all"] = Field(
+        "all", description="contact nodes: the bristle tips only, or every bristle node"
+    )
+    surface: bool = Field(
+        True,
+        description="contact with the beam's surface (a disc of radius h/2 around each node) "
+        "rather than its axis",
+    )
+    penalty_load: float | None = Field(
+        None,
+        gt=0.0,
+        allow_inf_nan=False,
+        description="load (N) at which penetration stays below 1e-3 mm and stick drift "
+        "below 1e-4 mm; default: the weight on one bristle",
+    )
+
+
 class Scenario(_Section):
     """A complete finite-element crawler scenario."""
 
@@ -107,6 +127,7 @@ class Scenario(_Section):
     body: BodyConfig = BodyConfig()
     bristle: BristleConfig = BristleConfig()
     substrate: SubstrateConfig = GroovesConfig(kind="grooves", width=1.0, depth=0.25, pitch=2.0)
+    contact: ContactConfig = ContactConfig()
     damping: DampingConfig = DampingConfig()
     actuation: ActuationConfig = ActuationConfig()
     gravity: float = Field(
