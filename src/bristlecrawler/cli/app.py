@@ -33,11 +33,12 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import experiment, reduced, verify
+    from bristlecrawler.cli import experiment, reduced, simulate, verify
 
     reduced.register(app)
     experiment.register(app)
     verify.register(app)
+    simulate.register(app)
 
 
 _register()

@@ -33,14 +33,19 @@ class ContactParams:
         X: reference positions of the contact nodes, mm, (k, 2).
         substrate: the rigid substrate (a PyTree from :mod:`.substrates`).
         law: the :class:`CoulombLaw` (mu, penalty stiffnesses).
-        radius: contact radius of each node, mm, (k,): the node touches the substrate with
-            a disc of this radius (0: the node itself; h/2: a beam's surface).
+        radius: contact radius of each point, mm, (k,): the point touches the substrate
+            with a disc of this radius (0: the point itself).
+        offset: reference offset of each contact point from its node, mm, (k, 2); it turns
+            with the node's rotation, so a point on a beam's face (offset h/2 normal to the
+            axis) stays on that face and the friction force's moment about the axis acts
+            on the node's rotation.
     """
 
     X: Any
     substrate: Any
     law: Any
     radius: Any
+    offset: Any
 
 
 @pytree_dataclass
@@ -58,37 +63,47 @@ class ContactHistory:
 
 @dataclasses.dataclass(frozen=True)
 class SubstrateContact:
-    """Contact of the FE nodes ``nodes`` (static, hashable) with a rigid substrate."""
+    """Contact of points attached to the FE nodes ``nodes`` (static, hashable) with a rigid
+    substrate. A node may carry several points (listed once per point, with different
+    offsets in :class:`ContactParams`)."""
 
     nodes: tuple[int, ...]
 
     def __post_init__(self) -> None:
         if len(self.nodes) == 0:
             raise InputError("contact term needs at least one node")
-        if len(set(self.nodes)) != len(self.nodes):
-            raise InputError("contact term: a node is listed twice")
 
     @staticmethod
     def params(
-        model_X: np.ndarray, nodes, substrate, law: CoulombLaw, radius=0.0
+        model_X: np.ndarray, nodes, substrate, law: CoulombLaw, radius=0.0, offset=None
     ) -> ContactParams:
         """Parameters for ``nodes`` of a structure with reference positions ``model_X``;
-        ``radius`` (mm) is one value or one per node."""
+        ``radius`` (mm) one value or one per point; ``offset`` (mm) None or (k, 2)."""
         X = jnp.asarray(np.asarray(model_X, float)[np.asarray(nodes, int), :2])
-        r = np.broadcast_to(np.asarray(radius, float), (X.shape[0],))
+        k = X.shape[0]
+        r = np.broadcast_to(np.asarray(radius, float), (k,))
         if not np.all(np.isfinite(r)) or np.any(r < 0):
             raise InputError("contact radius must be finite and >= 0 mm")
-        return ContactParams(X=X, substrate=substrate, law=law, radius=jnp.asarray(r))
+        off = np.zeros((k, 2)) if offset is None else np.asarray(offset, float)
+        if off.shape != (k, 2) or not np.all(np.isfinite(off)):
+            raise InputError(f"contact offsets must be finite, shape ({k}, 2)")
+        return ContactParams(
+            X=X, substrate=substrate, law=law, radius=jnp.asarray(r), offset=jnp.asarray(off)
+        )
 
     def _x(self, u, params):
-        return params.X + u[jnp.asarray(self.nodes), :2]
+        un = u[jnp.asarray(self.nodes)]
+        c, s = jnp.cos(un[:, 2]), jnp.sin(un[:, 2])
+        o = params.offset
+        turned = jnp.stack([c * o[:, 0] - s * o[:, 1], s * o[:, 0] + c * o[:, 1]], axis=1)
+        return params.X + un[:, :2] + turned
 
     def residual(self, u, v, t, history, params):
-        x = self._x(u, params)
+        x, pull = jax.vjp(lambda u: self._x(u, params), u)
         f = jax.vmap(node_force, in_axes=(0, 0, None, None, None, 0))(
             x, history.anchor, params.substrate, params.law, 0.0, params.radius
         )
-        return jnp.zeros_like(u).at[jnp.asarray(self.nodes), :2].add(f)
+        return pull(f)[0]
 
     def init_history(self, topology, params):
         """Anchors at the reference positions (a run that starts from the reference)."""

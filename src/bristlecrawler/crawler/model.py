@@ -34,6 +34,7 @@ class CrawlerModel:
     bristles: tuple[tuple[int, ...], tuple[int, ...]]
     contact_nodes: tuple[int, ...]
     contact_term_index: int
+    tip_points: tuple[tuple[int, ...], tuple[int, ...]]
     right_subtree: tuple[int, ...]
     lines: np.ndarray
     line_kind: np.ndarray
@@ -81,8 +82,8 @@ def build_crawler(
 ):
     """Build the FE model of scenario ``sc``.
 
-    ``contact`` ("tip" or "all" bristle nodes), ``surface`` (contact with the beam surface,
-    a disc of radius h/2 around each node) and ``penalty_load`` (N) override the scenario's
+    ``contact`` ("tip" or "all" bristle nodes), ``surface`` (contact points on both faces
+    of the beam rather than on its axis) and ``penalty_load`` (N) override the scenario's
     ``[contact]`` table.
     """
     from bristlecrawler import fe
@@ -94,13 +95,10 @@ def build_crawler(
     surface = sc.contact.surface if surface is None else surface
     penalty_load = sc.contact.penalty_load if penalty_load is None else penalty_load
     alpha = math.radians(br.alpha_deg)
-    # Contact radius of the tip: the tip's axis sits half a thickness above the surface.
-    r_tip = 0.5 * br.thickness_tip if surface else 0.0
-    # Tips start pressed by the static penetration (1 micrometre at the weight) so that the
-    # contact is closed from the first Newton iteration: an open contact leaves the body's
-    # horizontal translation unrestrained and the gravity solve singular.
     pen = 1e-3
-    drop = br.length * math.cos(alpha) + r_tip - pen
+    # With surface contact the tip's lower face corner touches the surface, not its axis.
+    lift = 0.5 * br.thickness_tip * abs(math.sin(alpha)) if surface else 0.0
+    drop = br.length * math.cos(alpha) + lift - pen
     y_end = b.link_length + drop
     s = fe.Structure()
     left = s.node(0.0, y_end)
@@ -124,23 +122,35 @@ def build_crawler(
         x0 = b.length if end == right else 0.0
         clamp = s.node(x0, drop)
         s.rigid_link(clamp, end)
-        tip = (x0 - br.length * math.sin(alpha), r_tip - pen)
+        tip = (x0 - br.length * math.sin(alpha), lift - pen)
         chains.append(tuple(s.chain(clamp, tip, br.elements, section)))
         clamps.append(clamp)
     s.gravity(0.0, -sc.gravity)
     n_el = br.elements
     if contact == "tip":
-        cnodes = (chains[0][-1], chains[1][-1])
+        cnodes = [chains[0][-1], chains[1][-1]]
         frac = np.ones(2)
     elif contact == "all":
         # Tips first (their states are the tips' contact states), then the other nodes.
-        cnodes = (chains[0][-1], chains[1][-1], *chains[0][1:-1], *chains[1][1:-1])
+        cnodes = [chains[0][-1], chains[1][-1], *chains[0][1:-1], *chains[1][1:-1]]
         inner = np.arange(1, n_el) / n_el
         frac = np.concatenate([[1.0, 1.0], inner, inner])
     else:
         raise InputError(f"contact must be 'tip' or 'all', got {contact!r}")
-    thickness = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac
-    radius = 0.5 * thickness if surface else np.zeros_like(thickness)
+    if surface:
+        # Points on both faces of the beam, h/2 from the axis along the section's normal;
+        # they turn with the node's rotation. Order: tips' "+n" points, the rest's "+n"
+        # points, then all "-n" points (so the first two are the tips).
+        thickness = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac
+        normal = np.array([math.cos(alpha), -math.sin(alpha)])
+        off = 0.5 * thickness[:, None] * normal[None, :]
+        offsets = np.concatenate([off, -off])
+        half = len(cnodes)
+        cnodes = cnodes + cnodes
+        tip_points = ((0, half), (1, half + 1))
+    else:
+        offsets = np.zeros((len(cnodes), 2))
+        tip_points = ((0,), (1,))
     # Penalties sized for the weight on one bristle (or a given peak load): penetration
     # below 1 micrometre and stick drift below 1e-4 mm at that load.
     weight = (
@@ -151,7 +161,8 @@ def build_crawler(
     X = np.asarray(s._X)  # reference coordinates (builder internal, read-only use)
     term = SubstrateContact(tuple(int(n) for n in cnodes))
     s.add_term(
-        term, SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, radius=radius)
+        term,
+        SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, offset=offsets),
     )
     model = s.build()
     lines = [(left, right), (left, clamps[0]), (right, clamps[1])]
@@ -170,6 +181,7 @@ def build_crawler(
         bristles=tuple(chains),
         contact_nodes=term.nodes,
         contact_term_index=0,
+        tip_points=tip_points,
         right_subtree=subtree,
         lines=np.asarray(lines),
         line_kind=np.asarray(kinds),

@@ -82,7 +82,8 @@ def _observer(cm: CrawlerModel):
             "x": x,
             "fc": fc,
             "energies": energies,
-            "tip_state": h.state[:2] if h.state.size >= 2 else h.state,
+            # A tip slips if one of its points slips, sticks if one sticks, else is open.
+            "tip_state": jnp.stack([jnp.max(h.state[jnp.asarray(ix)]) for ix in cm.tip_points]),
             "stretch": -(jnp.linalg.norm(x[R] - x[L]) - jnp.linalg.norm(X[R, :2] - X[L, :2])),
         }
 

@@ -107,8 +107,8 @@ class ContactConfig(_Section):
     )
     surface: bool = Field(
         True,
-        description="contact with the beam's surface (a disc of radius h/2 around each node) "
-        "rather than its axis",
+        description="contact points on both faces of the beam (h/2 from the axis, turning "
+        "with the section) rather than on its axis",
     )
     penalty_load: float | None = Field(
         None,

@@ -1,0 +1,156 @@
+"""The ``bristlecrawler simulate`` job: run an FE crawler scenario and write its results.
+
+Output folder (``runs/<timestamp>-simulate-<name>`` unless given): ``config.json`` (the
+resolved scenario), ``meta.json`` (package version, git revision, command), ``crawler.nc``
+(time series and frames, xarray/NetCDF), ``vtk/crawler.pvd`` (ParaView series),
+``delta_vs_s.png``, ``shapes.png``, ``connector.png``, ``crawler.gif`` (and ``.mp4`` where
+an ffmpeg is available) and ``summary.json``. Every file is written atomically, and only
+after the solve succeeded.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from bristlecrawler.crawler.history import CrawlerHistory
+from bristlecrawler.errors import InputError
+from bristlecrawler.scenario.schema import Scenario
+
+
+@dataclass(frozen=True)
+class SimulationRun:
+    """A finished FE crawler run: its history, summary and output folder."""
+
+    history: CrawlerHistory
+    summary: dict[str, Any]
+    out_dir: Path | None
+
+
+def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
+    """The scenario with ``section.key=value`` assignments (TOML values) applied and
+    re-validated; a bad assignment raises a one-line InputError."""
+    import tomllib
+
+    from bristlecrawler.scenario.load import scenario_from_dict
+
+    data = sc.model_dump()
+    for item in assignments:
+        key, sep, raw = item.partition("=")
+        if not sep or not key.strip():
+            raise InputError(f"--set expects section.key=value, got {item!r}")
+        try:
+            value = tomllib.loads(f"v = {raw.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = raw.strip()  # bare words (kind = grooves) are strings
+        *path, last = key.strip().split(".")
+        node = data
+        for part in path:
+            if not isinstance(node.get(part), dict):
+                raise InputError(f"--set {key}: unknown section {part!r}")
+            node = node[part]
+        if last not in node:
+            raise InputError(f"--set {key}: unknown parameter {last!r}")
+        node[last] = value
+    return scenario_from_dict(data, "scenario (with --set)")
+
+
+def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
+    """Summary numbers (units in the key names)."""
+    adv = h.advance_per_cycle()
+    work = h.connector_work
+    b = h.cycle_bounds()
+    st = h.stats
+    return {
+        "scenario": sc.name,
+        "net_advance_mm": h.net_advance,
+        "advance_per_cycle_mm": adv.tolist(),
+        "work_mJ": float(work[-1]),
+        "work_per_cycle_mJ": np.diff(work[b]).tolist(),
+        "mean_abs_connector_force_N": float(
+            np.trapezoid(np.abs(h.connector_force), h.t) / max(h.t[-1] - h.t[0], 1e-300)
+        ),
+        "max_abs_connector_force_N": float(np.max(np.abs(h.connector_force))),
+        "energy_balance_rel_error": h.energy_balance_rel_error(),
+        "friction_dissipation_mJ": float(h.energies.get("friction", [0.0])[-1]),
+        "damping_dissipation_mJ": float(h.energies.get("damping", [0.0])[-1]),
+        "wall_time_s": float(st.get("wall_time_s", float("nan"))),
+        "compile_time_s": float(st.get("compile_time_s", float("nan"))),
+        "steps": int(st.get("steps", h.t.size - 1)),
+        "newton_iterations": int(st.get("newton_iterations", 0)),
+        "rejected_steps": int(st.get("rejected_steps", 0)),
+        "first_frequency_hz": float(st.get("first_frequency_hz", float("nan"))),
+        "rayleigh_a0_per_s": float(st.get("rayleigh_a0", float("nan"))),
+    }
+
+
+def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:
+    """Indices of about ``per_cycle`` frames per cycle, evenly spaced in time."""
+    span = float(h.frame_t[-1] - h.frame_t[0])
+    period = h.period or span / max(h.cycles, 1)
+    n = max(round(per_cycle * span / period), 1) + 1
+    targets = np.linspace(h.frame_t[0], h.frame_t[-1], n)
+    idx = np.clip(np.searchsorted(h.frame_t, targets), 0, h.frame_t.size - 1)
+    return np.unique(idx)
+
+
+def run_simulation(
+    sc: Scenario,
+    out: str | Path | None = None,
+    write: bool = True,
+    progress: bool | None = None,
+    command: str = "",
+) -> SimulationRun:
+    """Run scenario ``sc``; with ``write``, put the results in ``out`` (see the module)."""
+    from bristlecrawler.crawler import run as crawler_run
+    from bristlecrawler.crawler.model import stroke_duration
+
+    stroke_duration(sc)  # reads and checks a history file before any work
+    h = crawler_run.simulate_crawler(sc, crawler_run.RunOptions(progress=progress))
+    summary = summarize(h, sc)
+    if not write:
+        return SimulationRun(h, summary, None)
+
+    from bristlecrawler.io.atomic import atomic_write_text
+    from bristlecrawler.io.crawler_dataset import crawler_dataset
+    from bristlecrawler.io.netcdf import write_netcdf
+    from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
+
+    out_dir = prepare_run_dir(out, f"simulate-{sc.name}")
+    config = sc.model_dump(mode="json")
+    info = write_run_metadata(out_dir, config, command)
+    keep = frame_subset(h, sc.output.frames_per_cycle)
+    framed = dataclasses.replace(h, frame_t=h.frame_t[keep], frame_nodes=h.frame_nodes[keep])
+    ds = crawler_dataset(framed, attrs=info.as_dict() | {"scenario": json.dumps(config)})
+    write_netcdf(ds, out_dir / "crawler.nc")
+    if sc.output.vtk:
+        from bristlecrawler.io.vtk import write_vtk_series
+
+        kind = np.broadcast_to(framed.line_kind, (keep.size, framed.lines.shape[0]))
+        write_vtk_series(
+            out_dir / "vtk",
+            framed.frame_t,
+            framed.frame_nodes,
+            framed.lines,
+            cell_data={"kind": kind},
+        )
+    if sc.output.figures:
+        from bristlecrawler.viz.crawler import plot_connector, plot_delta_vs_s, plot_shapes
+        from bristlecrawler.viz.reduced import save_figure
+
+        title = f"{sc.name}: alpha = {sc.bristle.alpha_deg:g} deg, net {h.net_advance:.2f} mm"
+        save_figure(plot_delta_vs_s(h, title=title), out_dir / "delta_vs_s.png")
+        save_figure(plot_shapes(h), out_dir / "shapes.png")
+        save_figure(plot_connector(h), out_dir / "connector.png")
+    if sc.output.animation:
+        from bristlecrawler.viz.crawler import animate
+
+        animate(framed, out_dir / "crawler")
+    summary = summary | {"output_dir": str(out_dir)}
+    atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2) + "\n")
+    return SimulationRun(h, summary, out_dir)

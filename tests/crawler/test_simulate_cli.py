@@ -1,0 +1,96 @@
+"""``bristlecrawler simulate``: bad input refused before any work, outputs of a run.
+
+The FE solve itself is exercised in tests/fe and tests/crawler; here the solver is replaced
+by a kinematic stand-in so that the command's validation and writing are tested quickly.
+"""
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from bristlecrawler.jobs import simulate as job
+
+from .kinematic import kinematic_history
+
+
+@pytest.mark.parametrize(
+    ("args", "word"),
+    [
+        (["nope"], "unknown scenario"),
+        (["paper", "--set", "bristle.alpha_deg=85"], "alpha_deg"),
+        (["paper", "--set", "bristle.alpha_deg=-80"], "alpha_deg"),
+        (["paper", "--set", "actuation.s_max=100"], "s_max"),
+        (["paper", "--set", "bristle.youngs_modulus=0"], "youngs_modulus"),
+        (["paper", "--set", "bristle.thickness_tip=-1"], "thickness_tip"),
+        (["paper", "--set", "substrate.mu=-0.1"], "mu"),
+        (["paper", "--set", "nonsense"], "section.key=value"),
+        (["paper", "--set", "bristle.colour=3"], "colour"),
+        (["paper", "--cycles", "0"], "cycles"),
+        (["missing.toml"], "not found"),
+    ],
+)
+def test_bad_input_one_line_exit_2_nothing_written(run_cli, tmp_path, args, word):
+    out = tmp_path / "out"
+    code, _stdout, err = run_cli(["simulate", *args, "--out", str(out)])
+    assert code == 2
+    assert word in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_history_with_negative_shortening_is_refused(run_cli, tmp_path):
+    csv = tmp_path / "h.csv"
+    csv.write_text("t,s\n0,0\n1,5\n2,-1\n")
+    toml = tmp_path / "sc.toml"
+    toml.write_text(f'[actuation]\nkind = "history"\nhistory = "{csv.name}"\n')
+    code, _, err = run_cli(["simulate", str(toml), "--out", str(tmp_path / "o")])
+    assert code == 2 and "shortening must be >= 0" in err
+
+
+def test_run_writes_every_output(run_cli, tmp_path, monkeypatch):
+    h = kinematic_history(cycles=2, samples=60)
+    monkeypatch.setattr("bristlecrawler.crawler.run.simulate_crawler", lambda sc, options=None: h)
+    out = tmp_path / "run"
+    code, stdout, err = run_cli(["simulate", "paper", "--cycles", "2", "--out", str(out), "--json"])
+    assert code == 0, err
+    summary = json.loads(stdout)
+    for key in (
+        "net_advance_mm",
+        "advance_per_cycle_mm",
+        "work_mJ",
+        "mean_abs_connector_force_N",
+        "energy_balance_rel_error",
+        "wall_time_s",
+        "steps",
+        "newton_iterations",
+    ):
+        assert key in summary
+    assert summary["net_advance_mm"] == pytest.approx(h.net_advance)
+    assert np.sum(summary["advance_per_cycle_mm"]) == pytest.approx(h.net_advance)
+    for name in (
+        "crawler.nc",
+        "config.json",
+        "meta.json",
+        "summary.json",
+        "delta_vs_s.png",
+        "shapes.png",
+        "connector.png",
+        "crawler.gif",
+        "vtk/crawler.pvd",
+    ):
+        assert (out / name).is_file(), name
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["actuation"]["cycles"] == 2 and cfg["bristle"]["alpha_deg"] == 45.0
+    meta = json.loads((out / "meta.json").read_text())
+    assert {"package_version", "git_revision", "command"} <= set(meta)
+    with xr.open_dataset(out / "crawler.nc") as ds:
+        np.testing.assert_allclose(ds["delta"].values, h.delta)
+        assert ds.sizes["frame"] <= 2 * 40 + 2
+
+
+def test_overrides_are_validated_like_the_file():
+    from bristlecrawler.scenario.load import load_scenario
+
+    sc = job.apply_overrides(load_scenario("paper"), ["substrate.pitch=3.5", "bristle.shear=false"])
+    assert sc.substrate.pitch == 3.5 and sc.bristle.shear is False
