@@ -31,13 +31,23 @@ from bristlecrawler.scenario.schema import Scenario
 @dataclass(frozen=True)
 class RunOptions:
     """contact: "tip" or "all" nodes (None: the scenario's); dt0: first step, s; progress:
-    show a progress bar."""
+    show a progress bar; capacity: steps per compiled chunk; grow, easy_iterations: the
+    step grows by ``grow`` after a step that took <= ``easy_iterations`` Newton iterations."""
 
     contact: str | None = None
     dt0: float = 1e-3
     progress: bool | None = None
     # First-frequency estimate for the settle only (replaced by modal analysis after it).
     settle_omega: float = 200.0
+    capacity: int = 512
+    grow: float = 1.5
+    easy_iterations: int = 4
+
+
+class _Failed(Exception):
+    def __init__(self, msg, carry):
+        super().__init__(msg)
+        self.carry = carry
 
 
 def _observer(cm: CrawlerModel):
@@ -105,33 +115,43 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     iterations = 0
     rejected = 0
 
-    def keep(state):
-        return state
-
     ig = fe.Integrator.hht(
         sc.solver.hht_alpha, rtol=sc.solver.tolerance, max_iter=sc.solver.max_iterations
     )
+    topo, terms = cm.model.topology, cm.model.terms
+    driver = fe.make_driver(topo, terms, ig, observe, opt.capacity, opt.grow,
+                            opt.easy_iterations)
+
+    def advance(carry, params, t_stop, dt_max, where):
+        """Drive to ``t_stop``; every accepted step's record goes to ``records``."""
+        nonlocal iterations, rejected
+        while float(carry.state.t) < t_stop - 1e-9:
+            it0, rej0 = int(carry.iterations), int(carry.rejected)
+            carry, buf, k, failed = driver(carry, params, t_stop, sc.solver.dt_min, dt_max)
+            buf, k = jax.device_get(buf), int(k)
+            records.extend(jax.tree.map(lambda b, i=i: b[i], buf) for i in range(k))
+            iterations += int(carry.iterations) - it0
+            rejected += int(carry.rejected) - rej0
+            if bool(failed):
+                info = carry.info
+                msg = fe.message(info, f"{where}, step {len(records)}")
+                raise _Failed(msg + f"; dt cut below dt_min = {sc.solver.dt_min:g} s", carry)
+            bar.update(float(carry.state.t), steps=len(records), iters=iterations)
+        return carry
+
     # Step 1: gravity settle with provisional damping.
     provisional = fe.Rayleigh.from_ratio(max(sc.damping.ratio, 0.15), opt.settle_omega, "mass")
     model = provisional.apply(cm.model)
     state = fe.initial_state(model)
+    omega1, damping = math.nan, provisional
     with sim_progress(t_end, "crawler", opt.progress) as bar:
-        res = fe.integrate(
-            model,
-            state,
-            settle,
-            opt.dt0,
-            integrator=ig,
-            dt_min=sc.solver.dt_min,
-            dt_max=min(sc.solver.dt_max, 0.01),
-            observe=keep,
-            throw=False,
-        )
-        iterations += sum(int(i.iterations) for i in res.infos)
-        rejected += res.rejected
-        if not res.ok:
-            raise SolverError(f"gravity step: {res.message}")
-        state = res.state
+        try:
+            carry = advance(fe.driver_start(state, opt.dt0), model.params, settle,
+                            min(sc.solver.dt_max, 0.01), "gravity step")
+        except _Failed as e:
+            raise SolverError(f"gravity step: {e.args[0]}") from None
+        records.clear()
+        state = carry.state
         modes = fe.modes(model, state.q, n_modes=1, t=float(state.t), history=state.history)
         omega1 = float(modes.omega[0])
         if sc.damping.kind == "explicit":
@@ -142,38 +162,23 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         records.append(jax.device_get(observe(state, model.params)))
         # Step 2: the stroke, in chunks so the progress bar moves.
         chunk = max(sc.actuation.period / 20.0, 0.5)
+        carry = fe.driver_start(state, float(carry.dt))
         t = float(state.t)
-        dt = opt.dt0
         while t < t_end - 1e-9:
             t_next = min(t + chunk, t_end)
-            res = fe.integrate(
-                model,
-                state,
-                t_next,
-                dt,
-                integrator=ig,
-                dt_min=sc.solver.dt_min,
-                dt_max=sc.solver.dt_max,
-                observe=lambda s: s,
-                throw=False,
-            )
-            iterations += sum(int(i.iterations) for i in res.infos)
-            rejected += res.rejected
-            records.extend(jax.device_get(observe(s, model.params)) for s in res.observed)
-            if not res.ok:
-                err = SolverError(f"stroke step near t = {float(res.state.t):.4g} s: {res.message}")
+            try:
+                carry = advance(carry, model.params, t_next, sc.solver.dt_max, "stroke")
+            except _Failed as e:
+                err = SolverError(f"stroke step near t = {float(e.carry.state.t):.4g} s: "
+                                  f"{e.args[0]}")
                 # The run up to the failure, for diagnosis (figures, contact states).
                 err.partial = _history(
                     cm, sc, records, omega1, damping, time.perf_counter() - wall0,
                     iterations, rejected, settle,
                 )
-                err.state = res.state
-                raise err
-            state = res.state
-            t = float(state.t)
-            if res.infos:
-                dt = float(res.infos[-1].dt) * 1.5
-            bar.update(t - 0.0, steps=len(records), iters=iterations)
+                err.state = e.carry.state
+                raise err from None
+            t = float(carry.state.t)
     wall = time.perf_counter() - wall0
     return _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle)
 

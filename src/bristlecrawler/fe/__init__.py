@@ -15,13 +15,16 @@ jax.config.update("jax_enable_x64", True)
 from bristlecrawler.fe.banded import BlockSystem  # noqa: E402
 from bristlecrawler.fe.cache import enable_compilation_cache  # noqa: E402
 from bristlecrawler.fe.dynamics import (  # noqa: E402
+    DriverCarry,
     DynResult,
     DynState,
     Integrator,
     Rayleigh,
+    driver_start,
     energy,
     initial_state,
     integrate,
+    make_driver,
     make_step,
     run_fixed,
 )
@@ -42,6 +45,7 @@ from bristlecrawler.fe.terms import Term  # noqa: E402
 __all__ = [
     "BlockSystem",
     "Constant",
+    "DriverCarry",
     "DynResult",
     "DynState",
     "Integrator",
@@ -63,10 +67,12 @@ __all__ = [
     "Topology",
     "check",
     "check_supported",
+    "driver_start",
     "enable_compilation_cache",
     "energy",
     "initial_state",
     "integrate",
+    "make_driver",
     "make_step",
     "message",
     "modes",
