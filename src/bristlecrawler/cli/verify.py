@@ -13,11 +13,14 @@ def verify_cmd(
         bool, typer.Option("--json", help="print one JSON object on stdout and nothing else")
     ] = False,
 ) -> None:
-    """Run the FE verification cases; print a table; exit 1 if any case fails.
+    """Run the FE and contact verification cases; print a table; exit 1 if any fails.
 
-    Cases: tip-loaded elastica (P L^2/EI = 1, 2, 5, 10), end moment rolling up a full
+    FE core: tip-loaded elastica (P L^2/EI = 1, 2, 5, 10), end moment rolling up a full
     circle, tapered bristle tip and horizontal stiffness, tip-mass cantilever frequency,
-    trapezoidal-rule energy, HHT dissipation, mesh convergence order.
+    trapezoidal-rule energy, HHT dissipation, mesh convergence order. Contact: Coulomb
+    oscillator (turning points, stop time, dissipation), block on an incline pushed
+    horizontally, pressed-and-dragged bristle (stick then slip), bristle tip dragged
+    across grooves (energy balance).
     """
     from bristlecrawler.fe import enable_compilation_cache
 
@@ -31,7 +34,7 @@ def verify_cmd(
         from rich.console import Console
         from rich.table import Table
 
-        table = Table(title="bristlecrawler FE verification")
+        table = Table(title="bristlecrawler verification (FE core and contact)")
         for col in ("case", "quantity", "reference", "computed", "rel. error", "tol", "pass"):
             table.add_column(col, justify="left" if col in ("case", "quantity") else "right")
         for r in rows:
@@ -47,6 +50,11 @@ def verify_cmd(
             f"{doc['bristle_horizontal_stiffness_N_per_mm']:.4f} N/mm "
             "(reduced model of the paper: k = 0.48 N/mm)"
         )
+        if "grooved_drag" in doc:
+            g = doc["grooved_drag"]
+            e = ", ".join(f"{k} {v:.4f}" for k, v in g["energies_mJ"].items())
+            console.print(f"grooved drag, energies at the end (mJ): {e}; peak normal force "
+                          f"{g['peak_normal_force_N']:.3f} N")
     if not doc["passed"]:
         raise typer.Exit(1)
 

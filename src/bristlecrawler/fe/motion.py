@@ -48,6 +48,32 @@ class Ramp:
 
 
 @pytree()
+class SmoothRamp:
+    """From 0 at t = 0 to ``value`` at t = ``duration`` (s), then constant, with a
+    trapezoidal velocity profile: the velocity rises linearly over the first ``blend`` s,
+    stays constant, and falls linearly to zero over the last ``blend`` s
+    (0 < ``blend`` <= ``duration`` / 2; ``blend = duration / 2`` is an S-curve).
+
+    Unlike :class:`Ramp` the velocity is continuous, so a structure at rest is not given an
+    impulse at t = 0 (a velocity jump of a prescribed DOF is an infinite acceleration, which
+    an implicit integrator turns into a one-step spike and high-frequency ringing).
+    """
+
+    value: float
+    duration: float
+    blend: float
+
+    def __call__(self, t):
+        T, b = self.duration, self.blend
+        v = self.value / (T - b)  # cruise velocity
+        tau = jnp.clip(t, 0.0, T)
+        start = 0.5 * v / b * tau**2
+        cruise = v * (tau - 0.5 * b)
+        stop = self.value - 0.5 * v / b * (T - tau) ** 2
+        return jnp.where(tau < b, start, jnp.where(tau > T - b, stop, cruise))
+
+
+@pytree()
 class Sine:
     """``amplitude`` sin(``omega`` t), omega in rad/s."""
 
@@ -70,7 +96,7 @@ class TimeFunction:
 
 def as_motion(value) -> object:
     """A number becomes :class:`Constant`; a motion is returned as is; a callable is wrapped."""
-    if isinstance(value, Constant | Sin2 | Ramp | Sine | TimeFunction):
+    if isinstance(value, Constant | Sin2 | Ramp | SmoothRamp | Sine | TimeFunction):
         return value
     if callable(value):
         return TimeFunction(value)
