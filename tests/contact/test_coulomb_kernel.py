@@ -85,6 +85,15 @@ def test_open_contact_has_no_force_and_follows():
     assert float(r.dissipation) == 0.0
 
 
+def test_open_contact_has_no_tangent_at_its_anchor():
+    # After an open step the anchor sits at s: delta = 0 at the first Newton iterate. The
+    # tangent of a point with no force must be zero there too (not the stick spring k_t,
+    # which would hold every open point of a beam for one iteration).
+    K = np.asarray(tangent(jnp.array([0.01, 0.3]), 0.3, LAW))
+    np.testing.assert_array_equal(K, 0.0)
+    assert int(step(0.01, 0.3, 0.3, LAW).state) == OPEN
+
+
 def test_augmented_multiplier_removes_penetration():
     # Uzawa: with lambda_n equal to the carried load the same load needs no penetration.
     load = 0.3

@@ -192,7 +192,10 @@ def return_map(
     limit = law.mu * p_n
     delta = s - anchor
     f_trial = law.k_t * delta
-    sticks = jnp.abs(f_trial) <= limit
+    # An open point never sticks: with a zero limit and the anchor at s (delta = 0, as at
+    # the first Newton iterate after an open step) the stick branch would put a spurious
+    # tangential spring k_t into the tangent of a point that carries no force.
+    sticks = (jnp.abs(f_trial) <= limit) & (p_n > 0.0)
     sign = jnp.sign(delta)
     f_t = jnp.where(sticks, f_trial, limit * sign)
     new_anchor = jnp.where(sticks, anchor, s - sign * limit / law.k_t)
