@@ -144,16 +144,19 @@ def run_resolving(model, state, t_end, dt, observe, max_dp, integrator=HHT,
 def slip_onset(load, f_t, p_n, states, mu):
     """Load at which a stuck contact reaches the friction limit ``|f_t| = mu p_N``.
 
-    The first slip step must follow stick steps (and no slip before). In stick the point
-    is held, so (linear elasticity, slow loading) both contact forces are affine in the
-    load: they are extended from the last two stick steps and the crossing is solved
-    exactly, which leaves only the nonlinearity within one load step as error.
+    The onset is the first slip step that follows two stick steps (a touchdown may slip
+    for a step before it sticks: with a normal force near zero any tangential motion
+    exceeds the limit). In stick the point is held, so (linear elasticity, slow loading)
+    both contact forces are affine in the load: they are extended from the last two stick
+    steps and the crossing is solved exactly, which leaves only the nonlinearity within one
+    load step as error.
     Returns (load at onset, index of the first slip step); (NaN, -1) if there is none.
     """
-    slip = np.flatnonzero(states == SLIP)
-    if slip.size == 0 or slip[0] < 2 or np.any(states[slip[0] - 2 : slip[0]] != STICK):
+    k_all = np.flatnonzero(states == SLIP)
+    onsets = [k for k in k_all if k >= 2 and np.all(states[k - 2 : k] == STICK)]
+    if not onsets:
         return math.nan, -1
-    k = int(slip[0])
+    k = int(onsets[0])
     i, j = k - 2, k - 1
     dl = load[j] - load[i]
     df, dp = (f_t[j] - f_t[i]) / dl, (p_n[j] - p_n[i]) / dl
