@@ -190,7 +190,9 @@ def case_energy(n_steps: int = 1000) -> list[Row]:
     m = cantilever()
     EI = _EI(m)
     pre = m.with_params(load_vec=jnp.asarray([[0.0, 1e-6 * EI, 0.0]]))
-    q0 = _static(pre, rtol=1e-13).state.q
+    # The tip-load cases' compiled solver (rtol 1e-10): the drift is measured from s0
+    # itself, so how tightly q0 balances the preload does not enter.
+    q0 = _static(pre).state.q
     free = m.with_params(load_vec=jnp.zeros((1, 3)))
     s0 = initial_state(free, q=q0)
     rhoA = float(m.params.rho[0] * m.params.sec[0, 2] * m.params.sec[0, 3])
