@@ -79,6 +79,7 @@ def build_crawler(
     contact: str | None = None,
     penalty_load: float | None = None,
     surface: bool | None = None,
+    corners: bool | None = None,
 ):
     """Build the FE model of scenario ``sc``.
 
@@ -93,6 +94,7 @@ def build_crawler(
     b, br = sc.body, sc.bristle
     contact = sc.contact.nodes if contact is None else contact
     surface = sc.contact.surface if surface is None else surface
+    corners = sc.contact.corners if corners is None else corners
     penalty_load = sc.contact.penalty_load if penalty_load is None else penalty_load
     alpha = math.radians(br.alpha_deg)
     pen = 1e-3
@@ -164,6 +166,23 @@ def build_crawler(
         term,
         SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, offset=offsets),
     )
+    if corners:
+        from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
+
+        # The closed outline of each bristle (both faces, tip end, clamp section).
+        frac_all = np.arange(n_el + 1) / n_el
+        thick = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac_all
+        normal = np.array([math.cos(alpha), -math.sin(alpha)])
+        outlines = [beam_outline(ch, thick, normal) for ch in chains]
+        faces = tuple(o[0] for o in outlines)
+        sub = sc.substrate.build()
+        period = float(sub.profile().period)
+        span = br.length + br.thickness_clamp
+        cterm = FaceCornerContact(
+            faces, FaceCornerContact.window_periods(span, period, margin=1.0)
+        )
+        s.add_term(cterm, FaceCornerContact.params(X, faces, [o[1] for o in outlines], sub,
+                                                   law))
     model = s.build()
     lines = [(left, right), (left, clamps[0]), (right, clamps[1])]
     kinds = [0, 1, 1]

@@ -76,13 +76,16 @@ def _observer(cm: CrawlerModel):
         e = e / jnp.linalg.norm(e)
         fc = -jnp.dot(lam, e)
         h = state.history[0]
-        pen = jnp.sum(0.5 * h.p_n**2 / k_n + 0.5 * h.f_t**2 / k_t)
+        # Every contact term (points, and corners against faces when present) shares the law.
+        pen = sum(jnp.sum(0.5 * hk.p_n**2 / k_n + 0.5 * hk.f_t**2 / k_t)
+                  for hk in state.history)
+        diss = sum(jnp.sum(hk.dissipation) for hk in state.history)
         energies = jnp.stack(
             [
                 assembly.internal_energy(u, params, topo),
                 assembly.kinetic_energy(v, params, topo),
                 -jnp.sum(f_ext * u),
-                jnp.sum(h.dissipation),
+                diss,
                 pen,
                 jnp.sum(v * damp),  # damping power
             ]

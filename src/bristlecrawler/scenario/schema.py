@@ -110,6 +110,12 @@ class ContactConfig(_Section):
         description="contact points on both faces of the beam (h/2 from the axis, turning "
         "with the section) rather than on its axis",
     )
+    corners: bool = Field(
+        True,
+        description="corner-to-face contact: the substrate's convex corners (land edges) "
+        "against both faces of every bristle element, so a sharp corner cannot pass "
+        "between contact points",
+    )
     penalty_load: float | None = Field(
         None,
         gt=0.0,

@@ -1,0 +1,349 @@
+"""Corner-to-outline contact: the substrate's convex corners against the outlines of beams.
+
+Node-to-surface contact (:mod:`.term`) keeps beam *points* out of the substrate. A sharp
+convex corner of a rigid substrate (the edge of a land between two grooves) can still pass
+between two points and cut into the beam: with 40 elements on a 5 mm bristle the corner
+sinks h_e^2 / (8 R) between nodes for a fillet R, tens of micrometres for R = 0.05 mm,
+far more than the penalty's design penetration, and a bristle that should ride over the
+corner locks and later snaps free. This term closes that gap with the dual pairing
+(Wriggers 2006, Sec. 4.1, the master/slave roles swapped): every convex corner of the
+substrate is a slave disc (centre and radius of its fillet, radius 0 when sharp) and the
+master is the closed outline of a beam chain: its two faces through the face points of
+the nodes (node position plus h/2 along the section normal, turning with the node's
+rotation), the end face at the tip and the section at the clamp
+(:func:`beam_outline`).
+
+Per (outline, corner) pair:
+
+* gap ``g`` = signed distance from the corner's centre to the outline polygon (negative
+  inside the beam), minus the fillet radius; at a vertex the sign comes from the
+  pseudo-normal (Baerentzen & Aanaes 2005), so the gap is continuous everywhere and
+  differentiable except on the polygon's medial axis, which a contact reaches only at a
+  penetration of half the local thickness.
+* tangential coordinate ``s`` = reference arc length along the outline of the closest
+  point, so the stick anchor is a material point of the beam's surface and "slip" is the
+  corner sliding along it.
+
+The Coulomb kernel is the one of the point contacts (:mod:`.coulomb`): penalty normal
+force, return mapping with the anchor as history, exact dissipation ``mu p_N |Delta a|``.
+
+The corners near an outline are a window of whole periods of the substrate, placed at
+each committed step around the outline's current extent; the pairs of corners that stay
+in the window are carried over, new ones start open. The window is fixed inside Newton
+(the residual is a fixed function of the DOFs within a step), and a step moves a beam by
+much less than the window's margin.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.contact._pytree import pytree_dataclass
+from bristlecrawler.contact.coulomb import CoulombLaw, generalized_forces, return_map
+from bristlecrawler.contact.profile import _chain
+from bristlecrawler.errors import InputError
+
+jax.config.update("jax_enable_x64", True)
+
+#: A vertex of an outline whose two segments' normals differ by more than 45 degrees is a
+#: corner of the section (end faces), not a kink of a bent face: normals are not blended.
+_SHARP_COS = math.cos(math.pi / 4)
+
+
+def convex_corners(substrate) -> tuple[np.ndarray, np.ndarray, float]:
+    """Convex corners of one period of ``substrate``: centres (k, 2) mm, fillet radii (k,)
+    mm, and the period (mm). Straight vertices and concave corners are not returned."""
+    c = _chain(substrate.profile())
+    turn = np.asarray(c.turn)
+    orient = np.asarray(c.orient)
+    keep = (turn != 0) & (orient > 0)
+    centres = np.asarray(c.center)[keep]
+    radii = np.asarray(c.radius)[keep]
+    return centres, radii, float(c.period)
+
+
+def beam_outline(chain, thickness, normal) -> tuple[tuple[int, ...], np.ndarray]:
+    """Closed outline of a beam chain: ``(nodes, offsets)`` for :class:`FaceCornerContact`.
+
+    ``chain`` node indices from clamp to tip, ``thickness`` (mm) at those nodes, ``normal``
+    (2,) the unit section normal in the reference configuration. The loop runs along the
+    +normal face from clamp to tip, across the end face, back along the -normal face, and
+    closes across the clamp (its first point repeated at the end).
+    """
+    chain = tuple(int(c) for c in chain)
+    half = 0.5 * np.asarray(thickness, float)[:, None] * np.asarray(normal, float)[None, :]
+    nodes = chain + chain[::-1] + chain[:1]
+    offsets = np.concatenate([half, -half[::-1], half[:1]])
+    return nodes, offsets
+
+
+@pytree_dataclass
+class FaceParams:
+    """Numeric parameters of a :class:`FaceCornerContact` (batchable leaves).
+
+    Attributes:
+        X: reference positions of the outline points' nodes, mm, (F, n, 2).
+        offset: reference offset of each outline point from its node, mm, (F, n, 2).
+        arc: reference arc length of the outline points along their outline, mm, (F, n).
+        side: +1 or -1 per outline: outward normal = side * (d_y, -d_x) for a segment
+            direction d (+1 for a counter-clockwise outline), (F,).
+        corners: corner centres in one period of the substrate, mm, (k, 2).
+        radii: corner fillet radii, mm, (k,).
+        period: substrate period, mm.
+        law: the :class:`CoulombLaw`.
+    """
+
+    X: Any
+    offset: Any
+    arc: Any
+    side: Any
+    corners: Any
+    radii: Any
+    period: Any
+    law: Any
+
+
+@pytree_dataclass
+class FaceHistory:
+    """Committed history: first period of each outline's corner window ``k0`` (F,), and
+    per (outline, window corner) (F, m): stick anchor (mm of face arc length), cumulative
+    dissipation (mJ), state (0 open, 1 stick, 2 slip), p_N (N) and f_t (N)."""
+
+    k0: Any
+    anchor: Any
+    dissipation: Any
+    state: Any
+    p_n: Any
+    f_t: Any
+
+
+def _face_points(u, nodes, params):
+    un = u[nodes]  # (F, n, 3)
+    c, s = jnp.cos(un[..., 2]), jnp.sin(un[..., 2])
+    o = params.offset
+    turned = jnp.stack([c * o[..., 0] - s * o[..., 1], s * o[..., 0] + c * o[..., 1]], axis=-1)
+    return params.X + un[..., :2] + turned
+
+
+def _pair(P, arc, side, C, rho):
+    """Gap (mm) and outline arc coordinate (mm) of a corner disc (C, rho) against the
+    closed polygon P (first point repeated at the end), with interpolated normals.
+
+    A plain closest-point projection on a polygon is continuous in the gap but not in the
+    arc coordinate: on the concave side of a vertex (a face wrapped around the corner that
+    presses into it is concave there) the closest point jumps from one segment to the next
+    by about ``depth x kink angle``, and the stick spring turns that into a force jump of
+    ``k_t depth kink`` that no step size removes. Here each segment AB carries the normal
+    interpolated linearly between the vertex normals (the normalised sums of the adjacent
+    segments' normals), and the corner's parameter t on AB solves
+    ``(C - A - t AB) x (n_A + t (n_B - n_A)) = 0``: the ray from the point at t along the
+    interpolated normal passes through C. Vertex normals are shared by adjacent segments,
+    so t, the arc coordinate and the gap ``(C - x(t)) . n(t) / |n(t)| - rho`` are
+    continuous across vertices (Wriggers 2006, Sec. 9.1 on smoothed master surfaces, in
+    the normal-interpolation form). Vertices where the outline turns by more than 45
+    degrees (the corners of the end faces) are not smoothed: there each segment keeps its
+    own normal and the vertex is a candidate of its own (closest point = the vertex, for
+    the wedge between the normals). The nearest candidate wins; where none reaches C (far
+    from the outline) the plain closest point is used.
+    """
+    A, B = P[:-1], P[1:]
+    ab = B - A
+    L2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), 1e-300)
+    L = jnp.sqrt(L2)
+    n_seg = side * jnp.stack([ab[:, 1], -ab[:, 0]], axis=-1) / L[:, None]
+    n_prev = jnp.roll(n_seg, 1, axis=0)  # vertex k joins segments k - 1 and k (cyclic)
+    sharp = jnp.sum(n_prev * n_seg, axis=-1) < _SHARP_COS
+    nv = n_seg + n_prev
+    nv = nv / jnp.sqrt(jnp.maximum(jnp.sum(nv * nv, axis=-1, keepdims=True), 1e-300))
+    # At a sharp vertex (the beam's end faces) a segment keeps its own normal; the wedge
+    # between the two normals belongs to the vertex itself (closest point = the vertex).
+    nA = jnp.where(sharp[:, None], n_seg, nv)
+    nB = jnp.where(jnp.roll(sharp, -1)[:, None], n_seg, jnp.roll(nv, -1, axis=0))
+    dn = nB - nA
+    w = C - A
+    a2 = -_cross(ab, dn)
+    a1 = _cross(w, dn) - _cross(ab, nA)
+    a0 = _cross(w, nA)
+    disc = jnp.maximum(a1 * a1 - 4.0 * a2 * a0, 0.0)
+    root = jnp.sqrt(jnp.where(disc > 1e-300, disc, 1.0)) * (disc > 1e-300)
+    den = a1 + jnp.where(a1 < 0.0, -1.0, 1.0) * root
+    den = jnp.where(jnp.abs(den) > 1e-300, den, 1e-300)
+    t = -2.0 * a0 / den
+    inside = (t >= 0.0) & (t <= 1.0)
+    x = A + t[:, None] * ab
+    nt = nA + t[:, None] * dn
+    nt = nt / jnp.sqrt(jnp.maximum(jnp.sum(nt * nt, axis=-1, keepdims=True), 1e-300))
+    d = C - x
+    d2 = jnp.where(inside, jnp.sum(d * d, axis=-1), jnp.inf)
+    # Sharp vertices as candidates: distance to the vertex, sign by the pseudo-normal.
+    dv = C - A
+    dv2 = jnp.where(sharp, jnp.sum(dv * dv, axis=-1), jnp.inf)
+    i = jnp.argmin(d2)
+    k = jnp.argmin(dv2)
+    seg_wins = d2[i] <= dv2[k]
+    found = jnp.isfinite(jnp.minimum(d2[i], dv2[k]))
+    ok = dv2[k] > 1e-30
+    vdist = jnp.where(ok, jnp.sqrt(jnp.where(ok & jnp.isfinite(dv2[k]), dv2[k], 1.0)), 0.0)
+    vsign = jnp.where(jnp.dot(dv[k], n_seg[k] + n_prev[k]) < 0.0, -1.0, 1.0)
+    g_seg = jnp.dot(d[i], nt[i])
+    # Fallback where no fan and no sharp vertex reaches C (far outside a smooth outline):
+    # the distance to the nearest segment.
+    tc = jnp.sum(w * ab, axis=-1) / L2
+    tc = jnp.where(tc < 0.0, 0.0, jnp.where(tc > 1.0, 1.0, tc))
+    dc = C - (A + tc[:, None] * ab)
+    dc2 = jnp.sum(dc * dc, axis=-1)
+    m = jnp.argmin(dc2)
+    okc = dc2[m] > 1e-30
+    g_far = jnp.where(okc, jnp.sqrt(jnp.where(okc, dc2[m], 1.0)), 0.0)
+    g = jnp.where(found, jnp.where(seg_wins, g_seg, vsign * vdist), g_far) - rho
+    s_seg = arc[i] + t[i] * (arc[i + 1] - arc[i])
+    s_far = arc[m] + tc[m] * (arc[m + 1] - arc[m])
+    s = jnp.where(found, jnp.where(seg_wins, s_seg, arc[k]), s_far)
+    return g, s
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+@dataclasses.dataclass(frozen=True)
+class FaceCornerContact:
+    """Contact of closed beam outlines ``faces`` (each a tuple of FE node indices, one per
+    outline point, first repeated last: see :func:`beam_outline`; static, hashable) with
+    the convex corners of a periodic rigid substrate, ``periods`` periods of corners in each
+    outline's window."""
+
+    faces: tuple[tuple[int, ...], ...]
+    periods: int
+
+    def __post_init__(self) -> None:
+        if not self.faces or any(len(f) < 4 for f in self.faces):
+            raise InputError("corner contact needs closed outlines of at least three points")
+        if len({len(f) for f in self.faces}) != 1:
+            raise InputError("corner contact: all outlines must have the same number of points")
+        if any(f[0] != f[-1] for f in self.faces):
+            raise InputError("corner contact: an outline must end at its first node")
+        if self.periods < 1:
+            raise InputError("corner contact: the corner window needs at least one period")
+
+    @staticmethod
+    def window_periods(span: float, period: float, margin: float) -> int:
+        """Periods a window needs to cover an outline of horizontal extent <= ``span`` (mm)
+        with ``margin`` (mm) on both sides, wherever it sits on the period grid."""
+        # The window starts up to one period before centre - periods * period / 2.
+        return math.ceil((span + 2.0 * margin) / period) + 2
+
+    @staticmethod
+    def params(model_X, faces, offsets, substrate, law: CoulombLaw) -> FaceParams:
+        """Parameters for the outlines ``faces`` of a structure with reference positions
+        ``model_X``; ``offsets`` (F, n, 2) mm per outline point."""
+        Xn = np.asarray(model_X, float)[:, :2]
+        idx = np.asarray(faces, int)
+        off = np.asarray(offsets, float)
+        if off.shape != (*idx.shape, 2):
+            raise InputError(f"corner contact: offsets must have shape {(*idx.shape, 2)}")
+        if not np.all(np.isfinite(off)):
+            raise InputError("corner contact: offsets must be finite")
+        P = Xn[idx] + off
+        seg = np.diff(P, axis=1)
+        length = np.hypot(seg[..., 0], seg[..., 1])
+        if np.any(length <= 0):
+            raise InputError("corner contact: an outline has two coincident points")
+        arc = np.concatenate([np.zeros((len(idx), 1)), np.cumsum(length, axis=1)], axis=1)
+        area = 0.5 * np.sum(P[:, :-1, 0] * P[:, 1:, 1] - P[:, 1:, 0] * P[:, :-1, 1], axis=1)
+        if np.any(np.abs(area) <= 0):
+            raise InputError("corner contact: an outline encloses no area")
+        side = np.sign(area)
+        corners, radii, period = convex_corners(substrate)
+        if len(corners) == 0:
+            raise InputError("corner contact: the substrate has no convex corners")
+        return FaceParams(
+            X=jnp.asarray(Xn[idx]), offset=jnp.asarray(off), arc=jnp.asarray(arc),
+            side=jnp.asarray(side), corners=jnp.asarray(corners),
+            radii=jnp.asarray(radii), period=jnp.asarray(period), law=law,
+        )
+
+    # -- geometry ---------------------------------------------------------------------
+
+    def _window(self, k0, params):
+        """Corner centres (F, m, 2) and radii (F, m) of the windows starting at period k0."""
+        k = params.corners.shape[0]
+        per = k0[:, None] + jnp.arange(self.periods)[None, :]  # (F, P)
+        shift = per[..., None] * params.period  # (F, P, 1)
+        cx = params.corners[None, None, :, 0] + shift
+        cy = jnp.broadcast_to(params.corners[None, None, :, 1], cx.shape)
+        C = jnp.stack([cx, cy], axis=-1).reshape(len(self.faces), self.periods * k, 2)
+        r = jnp.broadcast_to(params.radii, (len(self.faces), self.periods, k))
+        return C, r.reshape(len(self.faces), self.periods * k)
+
+    def _k0(self, u, params):
+        P = _face_points(u, jnp.asarray(self.faces), params)
+        xmin = jnp.min(P[..., 0], axis=1)
+        xmax = jnp.max(P[..., 0], axis=1)
+        centre = 0.5 * (xmin + xmax)
+        c0 = jnp.min(params.corners[:, 0])
+        # Window of `periods` periods centred on the face.
+        first = centre - 0.5 * self.periods * params.period
+        return jnp.floor((first - c0) / params.period).astype(jnp.int32)
+
+    def _gs(self, u, k0, params):
+        P = _face_points(u, jnp.asarray(self.faces), params)
+        C, rho = self._window(k0, params)
+        pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0))
+        return jax.vmap(pair)(P, params.arc, params.side, C, rho)
+
+    # -- term protocol ----------------------------------------------------------------
+
+    def residual(self, u, v, t, history, params):
+        (g, s), pull = jax.vjp(lambda u: self._gs(u, history.k0, params), u)
+        fg, fs = generalized_forces(g, s, history.anchor, params.law)
+        return pull((fg, fs))[0]
+
+    def init_history(self, topology, params):
+        return self.history_at(jnp.zeros((topology.n_nodes, 3)), params)
+
+    def history_at(self, u, params):
+        """Fresh history at displacement ``u``: windows around the faces, all pairs open
+        with their anchors at the current closest points."""
+        k0 = self._k0(u, params)
+        _, s = self._gs(u, k0, params)
+        z = jnp.zeros_like(s)
+        return FaceHistory(k0, s, z, jnp.zeros(s.shape, jnp.int32), z, z)
+
+    def commit(self, u, v, t, history, params):
+        g, s = self._gs(u, history.k0, params)
+        step = return_map(g, s, history.anchor, params.law)
+        # Re-centre the windows; carry over the pairs whose corner stays in the window.
+        k0 = self._k0(u, params)
+        k = params.corners.shape[0]
+        shift = (k0 - history.k0)[:, None] * k  # old slot = new slot + shift
+        m = self.periods * k
+        old = jnp.arange(m)[None, :] + shift
+        kept = (old >= 0) & (old < m)
+        oi = jnp.clip(old, 0, m - 1)
+
+        def carry(a):
+            return jnp.take_along_axis(a, oi, axis=1)
+
+        _, s_new = self._gs(u, k0, params)
+        anchor = jnp.where(kept, carry(step.anchor), s_new)
+        # Dissipation is per slot; what leaves the window is added to the face's first slot
+        # so that the sum over a face stays cumulative.
+        diss = history.dissipation + step.dissipation
+        total = jnp.sum(diss, axis=1)
+        diss = jnp.where(kept, carry(diss), 0.0)
+        diss = diss.at[:, 0].add(total - jnp.sum(diss, axis=1))
+        return FaceHistory(
+            k0,
+            anchor,
+            diss,
+            jnp.where(kept, carry(step.state.astype(jnp.int32)), 0),
+            jnp.where(kept, carry(step.p_n), 0.0),
+            jnp.where(kept, carry(step.f_t), 0.0),
+        )

@@ -1,0 +1,177 @@
+"""Corner-to-face contact (substrate corners against beam faces): geometry and a statics
+case with a closed form."""
+
+import dataclasses
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from bristlecrawler import fe
+from bristlecrawler.contact import CoulombLaw, Grooves
+from bristlecrawler.contact.corner import (
+    FaceCornerContact,
+    _pair,
+    beam_outline,
+    convex_corners,
+)
+
+
+def test_convex_corners_of_grooves_are_the_land_edges():
+    g = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=0.3, fillet_top=0.1)
+    c, r, period = convex_corners(g)
+    assert period == pytest.approx(2.0)
+    np.testing.assert_allclose(r, [0.1, 0.1])
+    # fillet centres one radius inside the land, below its top
+    xs = np.sort(np.mod(c[:, 0] - 0.3, 2.0))
+    np.testing.assert_allclose(xs, [1.0 + 0.1, 2.0 - 0.1])
+    np.testing.assert_allclose(c[:, 1], -0.1)
+
+
+def _strip(angle, side):
+    """Closed outline of a straight strip 3 mm long, 0.5 mm thick, axis through (0.3,
+    -0.2) along ``angle``; the 'face' is the one on the ``side`` of the axis."""
+    e = np.array([math.cos(angle), math.sin(angle)])
+    nrm = side * np.array([-e[1], e[0]])
+    axis = np.array([k * 0.75 * e for k in range(5)]) + np.array([0.3, -0.2])
+    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
+    seg = np.diff(P, axis=0)
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
+    area = 0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1])
+    return P, arc, np.sign(area), axis, e, nrm
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    angle=st.floats(-math.pi, math.pi),
+    t=st.floats(0.02, 0.98),
+    d=st.floats(-0.2, 2.0),
+    rho=st.floats(0.0, 0.1),
+    side=st.sampled_from([-1.0, 1.0]),
+)
+def test_gap_to_a_straight_face_is_the_distance_to_its_line(angle, t, d, rho, side):
+    """A corner beside a straight face at signed distance d from it along its outward
+    normal (inside the strip for d < 0, less than half the thickness): gap = d - rho, arc
+    coordinate = reference arc length along the face, up to the end faces (sharp corners
+    are not smoothed)."""
+    P, arc, orient, axis, e, nrm = _strip(angle, side)
+    C = axis[0] + 0.25 * nrm + t * 3.0 * e + d * nrm
+    g, s = _pair(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), rho)
+    assert float(g) == pytest.approx(d - rho, abs=1e-12)
+    assert float(s) == pytest.approx(3.0 * t, abs=1e-12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(angle=st.floats(-math.pi, math.pi), r=st.floats(0.01, 2.0), phi=st.floats(-1.5, 1.5))
+def test_corner_beyond_the_end_of_a_strip_is_outside(angle, r, phi):
+    """Beyond the end face the gap is positive, and straight ahead of the end face's middle
+    it is the distance to the end face."""
+    P, arc, orient, axis, e, nrm = _strip(angle, 1.0)
+    for direction, exact in ((math.cos(phi) * e + math.sin(phi) * nrm, False), (e, True)):
+        C = axis[-1] + r * direction
+        g, _ = _pair(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), 0.0)
+        assert float(g) > 0
+        if exact:
+            assert float(g) == pytest.approx(r, abs=1e-12)
+
+
+def test_gap_and_arc_are_continuous_around_a_bent_outline():
+    """A corner moved along a path past the vertices of a bent (kinked) strip, in contact
+    depth: gap and arc coordinate change by at most a few times the path step between
+    samples (no jumps at the vertices, on the concave side included)."""
+    k = 9
+    x = np.linspace(0.0, 4.0, k)
+    axis = np.stack([x, 0.15 * (x - 2.0) ** 2], axis=1)  # bent: upper face concave
+    tang = np.gradient(axis, axis=0)
+    tang /= np.linalg.norm(tang, axis=1)[:, None]
+    nrm = np.stack([-tang[:, 1], tang[:, 0]], axis=1)
+    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
+    seg = np.diff(P, axis=0)
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
+    area = 0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1])
+    xs = np.linspace(0.6, 3.4, 2001)
+    pairs = jax.jit(jax.vmap(_pair, in_axes=(None, None, None, 0, None)))
+    # inside, on, outside the concave upper face (a plain closest-point projection would
+    # jump in s by ~ depth x kink angle = 0.1 x 0.15 mm at every vertex here)
+    for depth in (-0.1, 0.0, 0.1):
+        ys = 0.15 * (xs - 2.0) ** 2 + 0.25 + depth
+        g, s = (np.asarray(v) for v in pairs(jnp.asarray(P), jnp.asarray(arc), np.sign(area),
+                                              jnp.stack([xs, ys], axis=1), 0.0))
+        step = np.hypot(np.diff(xs), np.diff(ys)).max()
+        assert np.abs(np.diff(g)).max() < 0.2 * step
+        assert np.abs(np.diff(s)).max() < 3.0 * step
+        assert np.all(np.diff(s) > 0)
+
+
+def _propped_cantilever(n_el, a, P, law_load):
+    """Horizontal cantilever (clamp at x = 0) whose lower face rests on the right edge of a
+    1 mm land at x = a; tip load P downwards. Only corner contact, frictionless."""
+    E, b, h, L = 1000.0, 1.0, 0.5, 10.0
+    s = fe.Structure()
+    clamp = s.node(0.0, 0.5 * h)
+    sec = fe.TaperedRect(E=E, b=b, h0=h, h1=h, rho=1e-9, nu=0.3, shear=False)
+    nodes = s.chain(clamp, (L, 0.5 * h), n_el, sec)
+    s.fix(clamp)
+    s.load(nodes[-1], fy=-P)
+    sub = Grooves(width=19.0, depth=0.25, pitch=20.0, phase=a - 20.0)  # land [a - 1, a]
+    law = CoulombLaw.for_reference_load(0.0, load=law_load)
+    outline, off = beam_outline(nodes, np.full(len(nodes), h), (0.0, 1.0))
+    term = FaceCornerContact((outline,), FaceCornerContact.window_periods(L, 20.0, 1.0))
+    X = np.asarray(s._X)
+    s.add_term(term, FaceCornerContact.params(X, (outline,), [off], sub, law))
+    m = s.build()
+    res = fe.solve_static(m, check_support=False)
+    assert res.ok, res.message
+    g, _ = term._gs(res.state.u, res.state.history[0].k0, m.params.extra[0])
+    reactions = np.maximum(-float(law.k_n) * np.asarray(g), 0.0)
+    EI = E * b * h**3 / 12.0
+    return reactions, float(law.k_n), EI, L
+
+
+@pytest.mark.parametrize("a", [7.0, 5.0])
+def test_propped_cantilever_reaction_matches_the_closed_form(a):
+    """Euler-Bernoulli, small deflection: an end load P on a cantilever propped at x = a by
+    a support of stiffness k_n (the penalty) gets the prop reaction
+    R = P (3L - a) / (2a) / (1 + 3 EI / (k_n a^3)). The land's other edge (x = a - 1) stays
+    open because the beam rises there. Exact for the Hermite beam with the prop at a node."""
+    P = 1e-3
+    reactions, k_n, EI, L = _propped_cantilever(20, a, P, law_load=1.0)
+    R = P * (3 * L - a) / (2 * a) / (1.0 + 3.0 * EI / (k_n * a**3))
+    assert np.count_nonzero(reactions) == 1
+    assert reactions.max() == pytest.approx(R, rel=2e-4)
+
+
+def test_window_follows_a_face_and_carries_its_pairs():
+    """Commit after moving a face by one period: the window re-centres by one period and
+    every corner that stays in it keeps its pair (anchor, state, forces from the return
+    mapping of that same corner), new slots start open, dissipation is kept."""
+    from bristlecrawler.contact.coulomb import return_map
+
+    s = fe.Structure()
+    a = s.node(0.0, 0.25 - 1e-4)  # lower face 0.1 micrometre into the lands
+    nodes = s.chain(a, (4.0, 0.25 - 1e-4), 4, fe.TaperedRect(E=1.0, b=1.0, h0=0.5, h1=0.5,
+                                                            rho=1e-9, nu=0.3))
+    outline, off = beam_outline(nodes, np.full(5, 0.5), (0.0, 1.0))
+    term = FaceCornerContact((outline,), 4)
+    sub = Grooves(width=1.0, depth=0.25, pitch=2.0)
+    law = CoulombLaw.for_reference_load(0.5, load=1.0)
+    p = FaceCornerContact.params(np.asarray(s._X), (outline,), [off], sub, law)
+    u0 = jnp.zeros((5, 3))
+    h0 = term.history_at(u0, p)
+    h0 = dataclasses.replace(h0, dissipation=h0.dissipation + 0.25)
+    u1 = u0.at[:, 0].set(2.0)
+    h1 = term.commit(u1, u0, 0.0, h0, p)
+    assert int(h1.k0[0]) == int(h0.k0[0]) + 1
+    g_old, s_old = term._gs(u1, h0.k0, p)
+    ref = return_map(g_old, s_old, h0.anchor, law)
+    k = 2  # corners per period: new slot i is old slot i + 2
+    assert np.any(np.asarray(ref.state)[0, k:] != 0)  # some carried pairs are closed
+    np.testing.assert_allclose(np.asarray(h1.anchor)[0, :-k], np.asarray(ref.anchor)[0, k:])
+    np.testing.assert_array_equal(np.asarray(h1.state)[0, :-k], np.asarray(ref.state)[0, k:])
+    assert np.all(np.asarray(h1.state)[0, -k:] == 0)
+    total = float(jnp.sum(h0.dissipation) + jnp.sum(ref.dissipation))
+    assert float(jnp.sum(h1.dissipation)) == pytest.approx(total, rel=1e-12)
