@@ -100,6 +100,8 @@ def build_crawler(
     pen = 1e-3
     # With surface contact the tip's lower face corner touches the surface, not its axis.
     lift = 0.5 * br.thickness_tip * abs(math.sin(alpha)) if surface else 0.0
+    if sc.contact.discs and not surface:
+        lift = 0.5 * br.thickness_tip
     drop = br.length * math.cos(alpha) + lift - pen
     y_end = b.link_length + drop
     s = fe.Structure()
@@ -153,6 +155,9 @@ def build_crawler(
     else:
         offsets = np.zeros((len(cnodes), 2))
         tip_points = ((0,), (1,))
+    radius = 0.0
+    if sc.contact.discs and not surface:
+        radius = 0.5 * (br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac)
     # Penalties sized for the weight on one bristle (or a given peak load): penetration
     # below 1 micrometre and stick drift below 1e-4 mm at that load.
     weight = (
@@ -164,7 +169,8 @@ def build_crawler(
     term = SubstrateContact(tuple(int(n) for n in cnodes))
     s.add_term(
         term,
-        SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, offset=offsets),
+        SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, radius=radius,
+                                offset=offsets),
     )
     if corners:
         from bristlecrawler.contact.corner import FaceCornerContact, beam_outline

@@ -110,6 +110,12 @@ class ContactConfig(_Section):
         description="contact points on both faces of the beam (h/2 from the axis, turning "
         "with the section) rather than on its axis",
     )
+    discs: bool = Field(
+        False,
+        description="with surface = false: each axis contact point is a disc of radius h/2 "
+        "(the local half thickness), so the faces rather than the axis touch flat parts of "
+        "the substrate; friction acts on the node's translation (no moment)",
+    )
     corners: bool = Field(
         True,
         description="corner-to-face contact: the substrate's convex corners (land edges) "

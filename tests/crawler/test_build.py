@@ -1,0 +1,50 @@
+"""Assembly of the FE crawler's contact terms from the scenario's [contact] table."""
+
+import numpy as np
+import pytest
+
+from bristlecrawler.contact.corner import FaceCornerContact
+from bristlecrawler.contact.term import SubstrateContact
+from bristlecrawler.crawler.model import build_crawler
+from bristlecrawler.scenario.load import load_scenario
+from bristlecrawler.scenario.schema import Scenario
+
+
+def _scenario(**contact):
+    d = load_scenario("paper").model_dump()
+    d["bristle"]["elements"] = 6
+    d["contact"].update(contact)
+    return Scenario.model_validate(d)
+
+
+def test_corner_term_outlines_each_bristle():
+    cm = build_crawler(_scenario(corners=True))
+    kinds = [type(t) for t in cm.model.terms]
+    assert kinds == [SubstrateContact, FaceCornerContact]
+    term, p = cm.model.terms[1], cm.model.params.extra[1]
+    n = 6 + 1
+    assert len(term.faces) == 2 and all(len(f) == 2 * n + 1 for f in term.faces)
+    for f, chain in zip(term.faces, cm.bristles, strict=True):
+        assert f[:n] == chain and f[n:2 * n] == chain[::-1] and f[-1] == chain[0]
+    # the outline is as thick as the bristle: 3 mm at the clamp, 0.5 mm at the tip
+    off = np.asarray(p.offset)
+    np.testing.assert_allclose(np.linalg.norm(off[:, 0], axis=1), 1.5)
+    np.testing.assert_allclose(np.linalg.norm(off[:, n - 1], axis=1), 0.25)
+    # land edges of the paper's grooves (1 mm wide, pitch 2 mm): two corners per period
+    assert np.asarray(p.corners).shape == (2, 2)
+    assert build_crawler(_scenario(corners=False)).model.terms[1:] == ()
+
+
+@pytest.mark.parametrize("discs", [False, True])
+def test_axis_points_as_discs_of_half_thickness(discs):
+    cm = build_crawler(_scenario(surface=False, discs=discs))
+    p = cm.model.params.extra[0]
+    r = np.asarray(p.radius)
+    if not discs:
+        assert np.all(r == 0)
+        return
+    np.testing.assert_allclose(r[:2], 0.25)  # the tips first, h1 / 2
+    assert np.all(np.diff(r[2:2 + 5]) < 0)  # thinner towards the tip
+    # the tip discs start touching the land top (1 micrometre in)
+    X = np.asarray(cm.model.params.X)
+    np.testing.assert_allclose(X[list(cm.tips), 1] - 0.25, -1e-3, atol=1e-12)
