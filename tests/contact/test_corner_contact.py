@@ -55,14 +55,19 @@ def _strip(angle, side):
 )
 def test_gap_to_a_straight_face_is_the_distance_to_its_line(angle, t, d, rho, side):
     """A corner beside a straight face at signed distance d from it along its outward
-    normal (inside the strip for d < 0, less than half the thickness): gap = d - rho, arc
+    normal (inside the strip for d < 0, less than half the thickness): gap = d - rho (or
+    minus the distance to an end face when that is nearer), arc
     coordinate = reference arc length along the face, up to the end faces (sharp corners
     are not smoothed)."""
     P, arc, orient, axis, e, nrm = _strip(angle, side)
     C = axis[0] + 0.25 * nrm + t * 3.0 * e + d * nrm
     g, s = _pair(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), rho)
-    assert float(g) == pytest.approx(d - rho, abs=1e-12)
-    assert float(s) == pytest.approx(3.0 * t, abs=1e-12)
+    to_end = 3.0 * min(t, 1.0 - t)  # inside, an end face may be the nearer boundary
+    if d >= 0 or -d < to_end:
+        assert float(g) == pytest.approx(d - rho, abs=1e-12)
+        assert float(s) == pytest.approx(3.0 * t, abs=1e-12)
+    else:
+        assert float(g) == pytest.approx(-to_end - rho, abs=1e-12)
 
 
 @settings(max_examples=60, deadline=None)
