@@ -119,7 +119,8 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     rejected = 0
 
     ig = fe.Integrator.hht(
-        sc.solver.hht_alpha, rtol=sc.solver.tolerance, max_iter=sc.solver.max_iterations
+        sc.solver.hht_alpha, rtol=sc.solver.tolerance, max_iter=sc.solver.max_iterations,
+        line_search=sc.solver.line_search,
     )
     topo, terms = cm.model.topology, cm.model.terms
     driver = fe.make_driver(topo, terms, ig, observe, opt.capacity, opt.grow,

@@ -55,6 +55,8 @@ class Integrator:
 
     Use :meth:`hht` (default alpha = -0.05) or :meth:`newmark`. rtol, atol: |R| <= rtol F +
     atol with F the sum of the inertial, internal, damping and external force norms (N).
+    line_search: "growth" (halve a correction only when the residual blows up) or
+    "monotone" (halve it until the residual decreases; see :func:`newton.newton`).
     """
 
     alpha: float = -0.05
@@ -63,6 +65,12 @@ class Integrator:
     rtol: float = 1e-9
     atol: float = 0.0
     max_iter: int = 12
+    line_search: str = "growth"
+
+    def __post_init__(self) -> None:
+        if self.line_search not in ("growth", "monotone"):
+            raise InputError(
+                f"line_search must be 'growth' or 'monotone', got {self.line_search!r}")
 
     @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
@@ -159,7 +167,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
         q_pred = state.q
         q1, it, rn, F, status = newton(
             residual, q_pred, topo, rtol=ig.rtol, atol=ig.atol, max_iter=ig.max_iter,
-            xscale=jnp.linalg.norm(params.X),
+            xscale=jnp.linalg.norm(params.X), monotone=ig.line_search == "monotone",
         )
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)

@@ -22,7 +22,7 @@ from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, SUCCESS
 
 
 def newton(residual, q0, topo, *, rtol, atol, max_iter, xscale=0.0, xtol=1e-13,
-           max_backtracks=8, growth=1e6):
+           max_backtracks=8, growth=1e6, monotone=False):
     """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
     Also converged when the last correction is below ``xtol`` max(|q|, ``xscale``) (xscale:
@@ -30,6 +30,13 @@ def newton(residual, q0, topo, *, rtol, atol, max_iter, xscale=0.0, xtol=1e-13,
     has a floor of about |K| eps |X| (stiffness times the float64 spacing of the node
     coordinates), which for a small load on a stiff member (the paper's bristle under
     1e-4 N) is far above rtol F. The achieved |R|/F is reported either way.
+
+    Each correction is halved (up to ``max_backtracks`` times) while the new residual is
+    not finite or exceeds ``growth`` times the current one; with ``monotone`` (static,
+    part of the compiled program) while it does not decrease at all. The monotone search
+    breaks the cycle of a contact point that flips between stick and slip from one
+    iterate to the next (a friction force offset from a beam axis locks the node's
+    rotation in stick and frees it in slip, so full Newton corrections alternate).
     """
 
     def res_only(q):
@@ -50,7 +57,10 @@ def newton(residual, q0, topo, *, rtol, atol, max_iter, xscale=0.0, xtol=1e-13,
         q, R, F, it, _ = c
         _, J = banded.extract(res_only, q, topo)
         dq = -banded.solve(J, R, topo)
-        bound = growth * jnp.maximum(jnp.linalg.norm(R), rtol * F)
+        if monotone:
+            bound = jnp.linalg.norm(R)
+        else:
+            bound = growth * jnp.maximum(jnp.linalg.norm(R), rtol * F)
 
         def ls_cond(ls):
             _, Rn, _, k = ls

@@ -88,6 +88,11 @@ class SolverConfig(_Section):
     dt_min: float = _pos(1e-6, "smallest time step before giving up, s")
     tolerance: float = _pos(1e-8, "Newton tolerance on the relative residual, -")
     max_iterations: int = Field(25, ge=2, le=1000, description="Newton iterations per step")
+    line_search: Literal["growth", "monotone"] = Field(
+        "monotone",
+        description="Newton line search: halve a correction until the residual decreases "
+        "('monotone'), or only when it blows up ('growth')",
+    )
 
 
 class OutputConfig(_Section):
