@@ -44,8 +44,14 @@ def newton(residual, q0, topo, *, rtol, atol, max_iter, xscale=0.0, xtol=1e-13,
 
     R0, F0 = residual(q0)
 
+    # The stalled-iterate test must not accept a run-away iterate, whose corrections are
+    # also small relative to |q| (full Newton steps on arctan(q - 3) reach |q| ~ 1e292 and
+    # were reported converged): it only counts within 1e6 times the problem's scale.
+    q_bound = 1e6 * jnp.maximum(jnp.maximum(jnp.linalg.norm(q0), xscale), 1.0)
+
     def converged(q, R, F, dx):
-        still = dx <= xtol * jnp.maximum(jnp.linalg.norm(q), xscale)
+        qn = jnp.linalg.norm(q)
+        still = (dx <= xtol * jnp.maximum(qn, xscale)) & (qn <= q_bound)
         return (jnp.linalg.norm(R) <= rtol * F + atol) | still
 
     def cond(c):
