@@ -46,7 +46,8 @@ import numpy as np
 
 from bristlecrawler.contact._pytree import pytree_dataclass
 from bristlecrawler.contact.coulomb import CoulombLaw, generalized_forces, return_map
-from bristlecrawler.contact.profile import _chain
+from bristlecrawler.contact.profile import _chain, _cross
+from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
 
 jax.config.update("jax_enable_x64", True)
@@ -124,11 +125,7 @@ class FaceHistory:
 
 
 def _face_points(u, nodes, params):
-    un = u[nodes]  # (F, n, 3)
-    c, s = jnp.cos(un[..., 2]), jnp.sin(un[..., 2])
-    o = params.offset
-    turned = jnp.stack([c * o[..., 0] - s * o[..., 1], s * o[..., 0] + c * o[..., 1]], axis=-1)
-    return params.X + un[..., :2] + turned
+    return attached_points(params.X, u[nodes], params.offset)
 
 
 def _pair(P, arc, side, C, rho):
@@ -206,10 +203,6 @@ def _pair(P, arc, side, C, rho):
     s_far = arc[m] + tc[m] * (arc[m + 1] - arc[m])
     s = jnp.where(found, jnp.where(seg_wins, s_seg, arc[k]), s_far)
     return g, s
-
-
-def _cross(a, b):
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
 @dataclasses.dataclass(frozen=True)

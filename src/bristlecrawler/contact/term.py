@@ -66,6 +66,16 @@ def _point_force_jvp(primals, tangents):
     return f, df
 
 
+def attached_points(X, un, offset):
+    """Current positions (mm, (..., 2)) of points at reference ``offset`` (..., 2) from nodes
+    with reference positions ``X`` (..., 2) and displacements ``un`` (..., 3): the offset
+    turns with the node's rotation."""
+    c, s = jnp.cos(un[..., 2]), jnp.sin(un[..., 2])
+    turned = jnp.stack([c * offset[..., 0] - s * offset[..., 1],
+                        s * offset[..., 0] + c * offset[..., 1]], axis=-1)
+    return X + un[..., :2] + turned
+
+
 @pytree_dataclass
 class ContactParams:
     """Numeric parameters of a contact term (batchable leaves).
@@ -133,11 +143,7 @@ class SubstrateContact:
         )
 
     def _x(self, u, params):
-        un = u[jnp.asarray(self.nodes)]
-        c, s = jnp.cos(un[:, 2]), jnp.sin(un[:, 2])
-        o = params.offset
-        turned = jnp.stack([c * o[:, 0] - s * o[:, 1], s * o[:, 0] + c * o[:, 1]], axis=1)
-        return params.X + un[:, :2] + turned
+        return attached_points(params.X, u[jnp.asarray(self.nodes)], params.offset)
 
     def residual(self, u, v, t, history, params):
         x, pull = jax.vjp(lambda u: self._x(u, params), u)
