@@ -338,3 +338,48 @@ def test_vmap_over_designs_and_one_compilation():
     f(Grooves(width=1.0, depth=0.25, pitch=2.0), pts)
     f(Grooves(width=0.5, depth=0.1, pitch=1.0, fillet_top=0.05), pts)
     assert f._cache_size() == 1
+
+
+def _inner_path(r, depth, n=400):
+    """Points ``depth`` inside the solid around the land edge at (0, 0) (land x < 0, wall
+    x = 0 going down), from the land top to the wall; for a fillet of radius r the path
+    is the parallel curve (straight, arc of radius r - depth, straight)."""
+    c = np.array([-r, -r])
+    pts = [np.array([x, -depth]) for x in np.linspace(-0.1, -r, n // 4)]
+    if r > 0:
+        pts += [c + (r - depth) * np.array([np.sin(a), np.cos(a)])
+                for a in np.linspace(0.0, 0.5 * np.pi, n // 2)]
+    else:
+        pts += [np.array([-depth, -depth])]
+    pts += [np.array([-depth, y]) for y in np.linspace(-r, -0.1, n // 4)]
+    return jnp.asarray(np.array(pts))
+
+
+def test_a_filleted_edge_turns_the_normal_continuously_inside_the_solid():
+    # A point pressed into the solid near a land edge (penetration ~1e-3 mm in the crawler):
+    # with a fillet r >> depth its normal turns smoothly as it moves round the edge, by at
+    # most the arc step over the parallel curve's radius r - depth.
+    r, depth = 0.02, 1e-3
+    p = _inner_path(r, depth)
+    res = project_points(Grooves(width=1.0, depth=0.25, pitch=2.0, fillet_top=r), p)
+    np.testing.assert_allclose(np.asarray(res.gap), -depth, atol=1e-12)
+    n = np.asarray(res.normal)
+    turn = np.arccos(np.clip(np.sum(n[1:] * n[:-1], axis=1), -1.0, 1.0))
+    step = np.linalg.norm(np.diff(np.asarray(p), axis=0), axis=1)
+    assert np.all(turn <= 1.01 * step / (r - depth) + 1e-9)
+    np.testing.assert_allclose(n[0], [0.0, 1.0], atol=1e-12)  # land top
+    np.testing.assert_allclose(n[-1], [1.0, 0.0], atol=1e-12)  # wall, facing the groove
+
+
+def test_a_sharp_edge_flips_the_normal_on_its_bisector():
+    # The documented reason for the scenarios' fillet: at a sharp edge the closest point of
+    # a penetrating point jumps from the land top to the wall on the bisector, so a point
+    # pushed into the wall just below the edge, deeper in the wall than below the top, is
+    # pushed up over the land rather than back into the groove.
+    depth = 1e-3
+    res = project_points(G, _inner_path(0.0, depth))
+    n = np.asarray(res.normal)
+    turn = np.degrees(np.arccos(np.clip(np.sum(n[1:] * n[:-1], axis=1), -1.0, 1.0)))
+    assert turn.max() == pytest.approx(90.0, abs=1e-6)
+    up = project_one(G, jnp.array([-0.004, -0.002]))  # 4 um into the wall, 2 um below the top
+    np.testing.assert_allclose(np.asarray(up.normal), [0.0, 1.0], atol=1e-12)
