@@ -355,6 +355,11 @@ def _inner_path(r, depth, n=400):
     return jnp.asarray(np.array(pts))
 
 
+def _turns(n):
+    """Angles (rad) between consecutive unit normals ``n`` (m, 2)."""
+    return np.arccos(np.clip(np.sum(n[1:] * n[:-1], axis=1), -1.0, 1.0))
+
+
 def test_a_filleted_edge_turns_the_normal_continuously_inside_the_solid():
     # A point pressed into the solid near a land edge (penetration ~1e-3 mm in the crawler):
     # with a fillet r >> depth its normal turns smoothly as it moves round the edge, by at
@@ -364,7 +369,7 @@ def test_a_filleted_edge_turns_the_normal_continuously_inside_the_solid():
     res = project_points(Grooves(width=1.0, depth=0.25, pitch=2.0, fillet_top=r), p)
     np.testing.assert_allclose(np.asarray(res.gap), -depth, atol=1e-12)
     n = np.asarray(res.normal)
-    turn = np.arccos(np.clip(np.sum(n[1:] * n[:-1], axis=1), -1.0, 1.0))
+    turn = _turns(n)
     step = np.linalg.norm(np.diff(np.asarray(p), axis=0), axis=1)
     assert np.all(turn <= 1.01 * step / (r - depth) + 1e-9)
     np.testing.assert_allclose(n[0], [0.0, 1.0], atol=1e-12)  # land top
@@ -379,7 +384,7 @@ def test_a_sharp_edge_flips_the_normal_on_its_bisector():
     depth = 1e-3
     res = project_points(G, _inner_path(0.0, depth))
     n = np.asarray(res.normal)
-    turn = np.degrees(np.arccos(np.clip(np.sum(n[1:] * n[:-1], axis=1), -1.0, 1.0)))
+    turn = np.degrees(_turns(n))
     assert turn.max() == pytest.approx(90.0, abs=1e-6)
     up = project_one(G, jnp.array([-0.004, -0.002]))  # 4 um into the wall, 2 um below the top
     np.testing.assert_allclose(np.asarray(up.normal), [0.0, 1.0], atol=1e-12)

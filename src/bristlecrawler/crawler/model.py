@@ -98,9 +98,11 @@ def build_crawler(
     penalty_load = sc.contact.penalty_load if penalty_load is None else penalty_load
     alpha = math.radians(br.alpha_deg)
     pen = 1e-3
-    # With surface contact the tip's lower face corner touches the surface, not its axis.
+    discs = sc.contact.discs and not surface
+    # With surface contact the tip's lower face corner touches the surface, not its axis;
+    # a disc touches it with its rim.
     lift = 0.5 * br.thickness_tip * abs(math.sin(alpha)) if surface else 0.0
-    if sc.contact.discs and not surface:
+    if discs:
         lift = 0.5 * br.thickness_tip
     drop = br.length * math.cos(alpha) + lift - pen
     y_end = b.link_length + drop
@@ -156,7 +158,7 @@ def build_crawler(
         offsets = np.zeros((len(cnodes), 2))
         tip_points = ((0,), (1,))
     radius = 0.0
-    if sc.contact.discs and not surface:
+    if discs:
         radius = 0.5 * (br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac)
     # Penalties sized for the weight on one bristle (or a given peak load): penetration
     # below 1 micrometre and stick drift below 1e-4 mm at that load.
