@@ -122,8 +122,9 @@ def test_grooved_drag_forces_stay_finite(runs):
 
 def test_verify_rows_pass_and_json_has_the_issue_keys(runs):
     rows, doc = contact_rows(runs)
-    failed = [f"{r.case}: {r.quantity} err {r.error:.2e} > {r.tol:.0e}" for r in rows
-              if not r.passed]
+    failed = [
+        f"{r.case}: {r.quantity} err {r.error:.2e} > {r.tol:.0e}" for r in rows if not r.passed
+    ]
     assert not failed, failed
     assert len(doc["coulomb_oscillator_turning_points_mm"]) == 6
     assert doc["coulomb_oscillator_stop_time_s"] > 0

@@ -104,8 +104,12 @@ def test_gap_and_arc_are_continuous_around_a_bent_outline():
     # jump in s by ~ depth x kink angle = 0.1 x 0.15 mm at every vertex here)
     for depth in (-0.1, 0.0, 0.1):
         ys = 0.15 * (xs - 2.0) ** 2 + 0.25 + depth
-        g, s = (np.asarray(v) for v in pairs(jnp.asarray(P), jnp.asarray(arc), np.sign(area),
-                                              jnp.stack([xs, ys], axis=1), 0.0))
+        g, s = (
+            np.asarray(v)
+            for v in pairs(
+                jnp.asarray(P), jnp.asarray(arc), np.sign(area), jnp.stack([xs, ys], axis=1), 0.0
+            )
+        )
         step = np.hypot(np.diff(xs), np.diff(ys)).max()
         assert np.abs(np.diff(g)).max() < 0.2 * step
         assert np.abs(np.diff(s)).max() < 3.0 * step
@@ -158,8 +162,9 @@ def test_window_follows_a_face_and_carries_its_pairs():
 
     s = fe.Structure()
     a = s.node(0.0, 0.25 - 1e-4)  # lower face 0.1 micrometre into the lands
-    nodes = s.chain(a, (4.0, 0.25 - 1e-4), 4, fe.TaperedRect(E=1.0, b=1.0, h0=0.5, h1=0.5,
-                                                            rho=1e-9, nu=0.3))
+    nodes = s.chain(
+        a, (4.0, 0.25 - 1e-4), 4, fe.TaperedRect(E=1.0, b=1.0, h0=0.5, h1=0.5, rho=1e-9, nu=0.3)
+    )
     outline, off = beam_outline(nodes, np.full(5, 0.5), (0.0, 1.0))
     term = FaceCornerContact((outline,), 4)
     sub = Grooves(width=1.0, depth=0.25, pitch=2.0)

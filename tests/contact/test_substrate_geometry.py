@@ -347,8 +347,10 @@ def _inner_path(r, depth, n=400):
     c = np.array([-r, -r])
     pts = [np.array([x, -depth]) for x in np.linspace(-0.1, -r, n // 4)]
     if r > 0:
-        pts += [c + (r - depth) * np.array([np.sin(a), np.cos(a)])
-                for a in np.linspace(0.0, 0.5 * np.pi, n // 2)]
+        pts += [
+            c + (r - depth) * np.array([np.sin(a), np.cos(a)])
+            for a in np.linspace(0.0, 0.5 * np.pi, n // 2)
+        ]
     else:
         pts += [np.array([-depth, -depth])]
     pts += [np.array([-depth, y]) for y in np.linspace(-r, -0.1, n // 4)]

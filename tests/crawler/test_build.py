@@ -25,7 +25,7 @@ def test_corner_term_outlines_each_bristle():
     n = 6 + 1
     assert len(term.faces) == 2 and all(len(f) == 2 * n + 1 for f in term.faces)
     for f, chain in zip(term.faces, cm.bristles, strict=True):
-        assert f[:n] == chain and f[n:2 * n] == chain[::-1] and f[-1] == chain[0]
+        assert f[:n] == chain and f[n : 2 * n] == chain[::-1] and f[-1] == chain[0]
     # the outline is as thick as the bristle: 3 mm at the clamp, 0.5 mm at the tip
     off = np.asarray(p.offset)
     np.testing.assert_allclose(np.linalg.norm(off[:, 0], axis=1), 1.5)
@@ -44,7 +44,7 @@ def test_axis_points_as_discs_of_half_thickness(discs):
         assert np.all(r == 0)
         return
     np.testing.assert_allclose(r[:2], 0.25)  # the tips first, h1 / 2
-    assert np.all(np.diff(r[2:2 + 5]) < 0)  # thinner towards the tip
+    assert np.all(np.diff(r[2 : 2 + 5]) < 0)  # thinner towards the tip
     # the tip discs start touching the land top (1 micrometre in)
     X = np.asarray(cm.model.params.X)
     np.testing.assert_allclose(X[list(cm.tips), 1] - 0.25, -1e-3, atol=1e-12)

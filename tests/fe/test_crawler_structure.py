@@ -116,8 +116,10 @@ def test_banded_jacobian_matches_dense(model):
     shift = float(np.abs(dense).max())
     r = jnp.asarray(rng.normal(size=topo.n_red))
     shifted = dataclasses.replace(
-        blocks, diag=blocks.diag + shift * jnp.eye(topo.bs), D=blocks.D + shift * jnp.eye(
-            topo.n_border))
+        blocks,
+        diag=blocks.diag + shift * jnp.eye(topo.bs),
+        D=blocks.D + shift * jnp.eye(topo.n_border),
+    )
     x = np.asarray(jax.jit(lambda s, r: banded.solve(s, r, topo))(shifted, r))
     assert np.allclose((dense + shift * np.eye(topo.n_red)) @ x, r, atol=1e-10)
 
@@ -127,9 +129,7 @@ def test_gravity_static_balance(model, equilibrium):
     st = equilibrium
     term = m.terms[0]
     _, fn, _, _ = term._forces(st.u, st.history[0], m.params.extra[0][1], m.params.X)
-    weight = float(-m.params.gravity[1]) * float(
-        jnp.sum(m.params.node_mass[:, 0]) + _beam_mass(m)
-    )
+    weight = float(-m.params.gravity[1]) * float(jnp.sum(m.params.node_mass[:, 0]) + _beam_mass(m))
     # Floor reactions carry the whole weight (no other support).
     assert float(-jnp.sum(fn)) == pytest.approx(weight, rel=1e-8)
 
@@ -139,7 +139,8 @@ def _beam_mass(m):
 
     ones = jnp.zeros((m.topology.n_nodes, 3)).at[:, 0].set(1.0)
     return float(jnp.sum(assembly.mass_times(ones, m.params, m.topology)[:, 0])) - float(
-        jnp.sum(m.params.node_mass[:, 0]))
+        jnp.sum(m.params.node_mass[:, 0])
+    )
 
 
 def test_hht_follows_actuated_length(model, equilibrium):

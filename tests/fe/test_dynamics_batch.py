@@ -121,8 +121,15 @@ def test_compiled_driver_takes_the_steps_of_the_python_driver(model):
     m = Rayleigh(0.5, 0.0).apply(model)
     s0 = _released(m, 5.0)  # large preload: Newton needs more iterations early on
     scheme = Integrator.hht(rtol=1e-12, max_iter=3)
-    ref = integrate(m, s0, 40.0, 4.0, integrator=scheme, easy_iterations=4,
-                    observe=lambda st: np.asarray(st.u[-1, :2]))
+    ref = integrate(
+        m,
+        s0,
+        40.0,
+        4.0,
+        integrator=scheme,
+        easy_iterations=4,
+        observe=lambda st: np.asarray(st.u[-1, :2]),
+    )
     carry, rec, failed = _drive(m, s0, 40.0, 4.0, scheme, capacity=7, dt_min=4e-4)
     assert not failed and ref.ok
     assert ref.rejected == int(carry.rejected) and ref.rejected > 0

@@ -46,13 +46,13 @@ def carried():
 
 
 def _run(carried, predictor):
-    m, chain, s0 = carried
+    m, _chain, s0 = carried
     ig = Integrator.hht(predictor=predictor, max_iter=8)
     return run_fixed(m, s0, m.params, DT, STEPS, ig)
 
 
 def test_tangent_predictor_carries_the_bristle(carried):
-    m, chain, _ = carried
+    _m, chain, _ = carried
     final, infos = _run(carried, "tangent")
     assert np.all(np.asarray(infos.status) == 0)
     # At constant support speed (after the 5 ms blend): the predictor (counted as one
@@ -83,7 +83,8 @@ def test_predictor_name_is_checked():
 def test_free_oscillation_is_unchanged_by_the_predictor():
     """With nothing prescribed in motion the predictor is the first Newton correction: both
     predictors converge to the same steps of a released cantilever."""
-    from bristlecrawler.verification.cases import N_ELEM as N, cantilever
+    from bristlecrawler.verification.cases import N_ELEM as N
+    from bristlecrawler.verification.cases import cantilever
 
     m = cantilever(N)
     EI = float(m.params.sec[0, 0] * m.params.sec[0, 2] * m.params.sec[0, 3] ** 3 / 12.0)

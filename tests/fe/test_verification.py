@@ -16,8 +16,9 @@ def results():
 
 def test_every_case_passes(results):
     rows, doc = results
-    failed = [f"{r.case}: {r.quantity} err {r.error:.2e} > {r.tol:.0e}" for r in rows
-              if not r.passed]
+    failed = [
+        f"{r.case}: {r.quantity} err {r.error:.2e} > {r.tol:.0e}" for r in rows if not r.passed
+    ]
     assert not failed, failed
     assert doc["passed"]
 

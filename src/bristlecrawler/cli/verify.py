@@ -38,8 +38,15 @@ def verify_cmd(
         for col in ("case", "quantity", "reference", "computed", "rel. error", "tol", "pass"):
             table.add_column(col, justify="left" if col in ("case", "quantity") else "right")
         for r in rows:
-            table.add_row(r.case, r.quantity, f"{r.reference:.10g}", f"{r.computed:.10g}",
-                          f"{r.error:.2e}", f"{r.tol:.0e}", "yes" if r.passed else "NO")
+            table.add_row(
+                r.case,
+                r.quantity,
+                f"{r.reference:.10g}",
+                f"{r.computed:.10g}",
+                f"{r.error:.2e}",
+                f"{r.tol:.0e}",
+                "yes" if r.passed else "NO",
+            )
         console = Console(width=140)
         console.print(table)
         conv = doc["mesh_convergence"]
@@ -53,8 +60,10 @@ def verify_cmd(
         if "grooved_drag" in doc:
             g = doc["grooved_drag"]
             e = ", ".join(f"{k} {v:.4f}" for k, v in g["energies_mJ"].items())
-            console.print(f"grooved drag, energies at the end (mJ): {e}; peak normal force "
-                          f"{g['peak_normal_force_N']:.3f} N")
+            console.print(
+                f"grooved drag, energies at the end (mJ): {e}; peak normal force "
+                f"{g['peak_normal_force_N']:.3f} N"
+            )
     if not doc["passed"]:
         raise typer.Exit(1)
 

@@ -257,9 +257,14 @@ class FaceCornerContact:
         if len(corners) == 0:
             raise InputError("corner contact: the substrate has no convex corners")
         return FaceParams(
-            X=jnp.asarray(Xn[idx]), offset=jnp.asarray(off), arc=jnp.asarray(arc),
-            side=jnp.asarray(side), corners=jnp.asarray(corners),
-            radii=jnp.asarray(radii), period=jnp.asarray(period), law=law,
+            X=jnp.asarray(Xn[idx]),
+            offset=jnp.asarray(off),
+            arc=jnp.asarray(arc),
+            side=jnp.asarray(side),
+            corners=jnp.asarray(corners),
+            radii=jnp.asarray(radii),
+            period=jnp.asarray(period),
+            law=law,
         )
 
     # -- geometry ---------------------------------------------------------------------

@@ -28,8 +28,10 @@ from bristlecrawler.errors import InputError
 
 
 def _is_zero(t) -> bool:
-    return all(isinstance(z, SymbolicZero)
-               for z in jax.tree.leaves(t, is_leaf=lambda z: isinstance(z, SymbolicZero)))
+    return all(
+        isinstance(z, SymbolicZero)
+        for z in jax.tree.leaves(t, is_leaf=lambda z: isinstance(z, SymbolicZero))
+    )
 
 
 @jax.custom_jvp
@@ -58,11 +60,15 @@ def _point_force_jvp(primals, tangents):
     if not _is_zero(others):
         # derivatives w.r.t. the parameters (design sensitivities): plain autodiff
         rest = tuple(
-            jax.tree.map(lambda p, t: jnp.zeros_like(p) if isinstance(t, SymbolicZero) else t,
-                         prim, tan, is_leaf=lambda z: isinstance(z, SymbolicZero))
-            for prim, tan in zip(primals[1:], others, strict=True))
-        df = df + jax.jvp(lambda a, s, w, r: node_force(x, a, s, w, 0.0, r),
-                          primals[1:], rest)[1]
+            jax.tree.map(
+                lambda p, t: jnp.zeros_like(p) if isinstance(t, SymbolicZero) else t,
+                prim,
+                tan,
+                is_leaf=lambda z: isinstance(z, SymbolicZero),
+            )
+            for prim, tan in zip(primals[1:], others, strict=True)
+        )
+        df = df + jax.jvp(lambda a, s, w, r: node_force(x, a, s, w, 0.0, r), primals[1:], rest)[1]
     return f, df
 
 
@@ -71,8 +77,9 @@ def attached_points(X, un, offset):
     with reference positions ``X`` (..., 2) and displacements ``un`` (..., 3): the offset
     turns with the node's rotation."""
     c, s = jnp.cos(un[..., 2]), jnp.sin(un[..., 2])
-    turned = jnp.stack([c * offset[..., 0] - s * offset[..., 1],
-                        s * offset[..., 0] + c * offset[..., 1]], axis=-1)
+    turned = jnp.stack(
+        [c * offset[..., 0] - s * offset[..., 1], s * offset[..., 0] + c * offset[..., 1]], axis=-1
+    )
     return X + un[..., :2] + turned
 
 

@@ -171,8 +171,9 @@ def build_crawler(
     term = SubstrateContact(tuple(int(n) for n in cnodes))
     s.add_term(
         term,
-        SubstrateContact.params(X, term.nodes, sc.substrate.build(), law, radius=radius,
-                                offset=offsets),
+        SubstrateContact.params(
+            X, term.nodes, sc.substrate.build(), law, radius=radius, offset=offsets
+        ),
     )
     if corners:
         from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
@@ -186,11 +187,8 @@ def build_crawler(
         sub = sc.substrate.build()
         period = float(sub.profile().period)
         span = br.length + br.thickness_clamp
-        cterm = FaceCornerContact(
-            faces, FaceCornerContact.window_periods(span, period, margin=1.0)
-        )
-        s.add_term(cterm, FaceCornerContact.params(X, faces, [o[1] for o in outlines], sub,
-                                                   law))
+        cterm = FaceCornerContact(faces, FaceCornerContact.window_periods(span, period, margin=1.0))
+        s.add_term(cterm, FaceCornerContact.params(X, faces, [o[1] for o in outlines], sub, law))
     model = s.build()
     lines = [(left, right), (left, clamps[0]), (right, clamps[1])]
     kinds = [0, 1, 1]

@@ -77,8 +77,7 @@ def _observer(cm: CrawlerModel):
         fc = -jnp.dot(lam, e)
         h = state.history[0]
         # Every contact term (points, and corners against faces when present) shares the law.
-        pen = sum(jnp.sum(0.5 * hk.p_n**2 / k_n + 0.5 * hk.f_t**2 / k_t)
-                  for hk in state.history)
+        pen = sum(jnp.sum(0.5 * hk.p_n**2 / k_n + 0.5 * hk.f_t**2 / k_t) for hk in state.history)
         diss = sum(jnp.sum(hk.dissipation) for hk in state.history)
         energies = jnp.stack(
             [
@@ -119,12 +118,13 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     rejected = 0
 
     ig = fe.Integrator.hht(
-        sc.solver.hht_alpha, rtol=sc.solver.tolerance, max_iter=sc.solver.max_iterations,
+        sc.solver.hht_alpha,
+        rtol=sc.solver.tolerance,
+        max_iter=sc.solver.max_iterations,
         line_search=sc.solver.line_search,
     )
     topo, terms = cm.model.topology, cm.model.terms
-    driver = fe.make_driver(topo, terms, ig, observe, opt.capacity, opt.grow,
-                            opt.easy_iterations)
+    driver = fe.make_driver(topo, terms, ig, observe, opt.capacity, opt.grow, opt.easy_iterations)
 
     def advance(carry, params, t_stop, dt_max, where):
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""
@@ -150,8 +150,13 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     omega1, damping = math.nan, provisional
     with sim_progress(t_end, "crawler", opt.progress) as bar:
         try:
-            carry = advance(fe.driver_start(state, opt.dt0), model.params, settle,
-                            min(sc.solver.dt_max, 0.01), "gravity step")
+            carry = advance(
+                fe.driver_start(state, opt.dt0),
+                model.params,
+                settle,
+                min(sc.solver.dt_max, 0.01),
+                "gravity step",
+            )
         except _Failed as e:
             raise SolverError(f"gravity step: {e.args[0]}") from None
         records.clear()
@@ -180,12 +185,20 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             try:
                 carry = advance(carry, model.params, t_next, sc.solver.dt_max, "stroke")
             except _Failed as e:
-                err = SolverError(f"stroke step near t = {float(e.carry.state.t):.4g} s: "
-                                  f"{e.args[0]}")
+                err = SolverError(
+                    f"stroke step near t = {float(e.carry.state.t):.4g} s: {e.args[0]}"
+                )
                 # The run up to the failure, for diagnosis (figures, contact states).
                 err.partial = _history(
-                    cm, sc, records, omega1, damping, time.perf_counter() - wall0,
-                    iterations, rejected, settle,
+                    cm,
+                    sc,
+                    records,
+                    omega1,
+                    damping,
+                    time.perf_counter() - wall0,
+                    iterations,
+                    rejected,
+                    settle,
                 )
                 err.state = e.carry.state
                 raise err from None

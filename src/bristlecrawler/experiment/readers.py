@@ -125,9 +125,7 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
     try:
         from nptdms import TdmsFile
     except ImportError:  # pragma: no cover
-        raise InputError(
-            "reading TDMS needs npTDMS: pip install npTDMS"
-        ) from None
+        raise InputError("reading TDMS needs npTDMS: pip install npTDMS") from None
     cmap = cmap or ChannelMap()
     path = os.fspath(path)
     if not os.path.isfile(path):

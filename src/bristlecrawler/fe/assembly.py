@@ -58,8 +58,9 @@ def internal_energy(u, params, topo):
         total = total + jnp.sum(energies)
     if topo.springs:
         s = ix["springs"]
-        energies = jax.vmap(spring_energy)(X[s[:, 0]], X[s[:, 1]], u[s[:, 0]], u[s[:, 1]],
-                                           params.spring_k)
+        energies = jax.vmap(spring_energy)(
+            X[s[:, 0]], X[s[:, 1]], u[s[:, 0]], u[s[:, 1]], params.spring_k
+        )
         total = total + jnp.sum(energies)
     return total
 

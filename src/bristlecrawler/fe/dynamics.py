@@ -74,10 +74,10 @@ class Integrator:
     def __post_init__(self) -> None:
         if self.line_search not in ("growth", "monotone"):
             raise InputError(
-                f"line_search must be 'growth' or 'monotone', got {self.line_search!r}")
+                f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
+            )
         if self.predictor not in ("tangent", "constant"):
-            raise InputError(
-                f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
+            raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
 
     @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
@@ -191,8 +191,14 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             q_pred = state.q
             extra = 0
         q1, it, rn, F, status = newton(
-            residual, q_pred, topo, rtol=ig.rtol, atol=ig.atol, max_iter=ig.max_iter - extra,
-            xscale=jnp.linalg.norm(params.X), monotone=ig.line_search == "monotone",
+            residual,
+            q_pred,
+            topo,
+            rtol=ig.rtol,
+            atol=ig.atol,
+            max_iter=ig.max_iter - extra,
+            xscale=jnp.linalg.norm(params.X),
+            monotone=ig.line_search == "monotone",
         )
         it = it + extra
         u1, v1, a1 = kin(q1)
@@ -256,10 +262,20 @@ class DynResult:
     rejected: int
 
 
-def integrate(model, state: DynState, t_end: float, dt: float, *,
-              integrator: Integrator | None = None, dt_min: float | None = None,
-              dt_max: float | None = None, grow: float = 1.5, easy_iterations: int = 3,
-              observe=None, throw: bool = True) -> DynResult:
+def integrate(
+    model,
+    state: DynState,
+    t_end: float,
+    dt: float,
+    *,
+    integrator: Integrator | None = None,
+    dt_min: float | None = None,
+    dt_max: float | None = None,
+    grow: float = 1.5,
+    easy_iterations: int = 3,
+    observe=None,
+    throw: bool = True,
+) -> DynResult:
     """Adaptive time stepping from ``state`` to ``t_end`` (s), starting with step ``dt`` (s).
 
     A step that fails (Newton limit, NaN) is retried with dt/2; after a step that converged
@@ -302,8 +318,15 @@ def integrate(model, state: DynState, t_end: float, dt: float, *,
     return DynResult(state, np.asarray(times), observed, infos, True, "converged", rejected)
 
 
-def run_fixed(model_or_topology, state: DynState, params, dt: float, n_steps: int,
-              integrator: Integrator | None = None, terms=()):
+def run_fixed(
+    model_or_topology,
+    state: DynState,
+    params,
+    dt: float,
+    n_steps: int,
+    integrator: Integrator | None = None,
+    terms=(),
+):
     """``n_steps`` steps of fixed ``dt`` in one compiled ``lax.scan`` (batched runs, bench).
 
     Returns (final state, StepInfo stacked over steps). A failed step leaves the state
@@ -339,8 +362,15 @@ class DriverCarry:
 
 
 @functools.lru_cache(maxsize=32)
-def make_driver(topo, terms, integrator: Integrator | None, observe, capacity: int,
-                grow: float = 1.5, easy_iterations: int = 4):
+def make_driver(
+    topo,
+    terms,
+    integrator: Integrator | None,
+    observe,
+    capacity: int,
+    grow: float = 1.5,
+    easy_iterations: int = 4,
+):
     """Compiled adaptive stepping: ``run(carry, params, t_end, dt_min, dt_max)``.
 
     One ``lax.while_loop`` takes steps from ``carry.state`` until ``t_end`` (s), until
@@ -357,8 +387,9 @@ def make_driver(topo, terms, integrator: Integrator | None, observe, capacity: i
     @jax.jit
     def run(carry, params, t_end, dt_min, dt_max):
         proto = observe(carry.state, params)
-        buf = jax.tree.map(lambda x: jnp.zeros((capacity, *jnp.shape(x)), jnp.result_type(x)),
-                           proto)
+        buf = jax.tree.map(
+            lambda x: jnp.zeros((capacity, *jnp.shape(x)), jnp.result_type(x)), proto
+        )
         eps = 1e-12 * jnp.maximum(1.0, jnp.abs(t_end))
 
         def cond(c):
@@ -372,12 +403,12 @@ def make_driver(topo, terms, integrator: Integrator | None, observe, capacity: i
             good = info.status == SUCCESS
             rec = observe(new, params)
             buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
-            grown = jnp.where(info.iterations <= easy_iterations,
-                              jnp.minimum(carry.dt * grow, dt_max), carry.dt)
+            grown = jnp.where(
+                info.iterations <= easy_iterations, jnp.minimum(carry.dt * grow, dt_max), carry.dt
+            )
             dt = jnp.where(good, grown, 0.5 * h)
             failed = ~good & (0.5 * h < dt_min)
-            info = dataclasses.replace(
-                info, status=jnp.where(failed, STEP_TOO_SMALL, info.status))
+            info = dataclasses.replace(info, status=jnp.where(failed, STEP_TOO_SMALL, info.status))
             nxt = DriverCarry(
                 state=jax.tree.map(lambda n, o: jnp.where(good, n, o), new, carry.state),
                 dt=dt,
@@ -389,7 +420,8 @@ def make_driver(topo, terms, integrator: Integrator | None, observe, capacity: i
             return nxt, buf, k + good, failed
 
         carry, buf, k, failed = jax.lax.while_loop(
-            cond, body, (carry, buf, jnp.asarray(0), jnp.asarray(False)))
+            cond, body, (carry, buf, jnp.asarray(0), jnp.asarray(False))
+        )
         return carry, buf, k, failed
 
     return run
@@ -398,6 +430,13 @@ def make_driver(topo, terms, integrator: Integrator | None, observe, capacity: i
 def driver_start(state: DynState, dt: float) -> DriverCarry:
     """Initial :class:`DriverCarry` from a dynamic state and a first step ``dt`` (s)."""
     z = jnp.asarray(0)
-    info = StepInfo(jnp.asarray(SUCCESS), z, jnp.asarray(0.0), jnp.asarray(0.0), state.t,
-                    jnp.asarray(float(dt)), jnp.asarray(1.0))
+    info = StepInfo(
+        jnp.asarray(SUCCESS),
+        z,
+        jnp.asarray(0.0),
+        jnp.asarray(0.0),
+        state.t,
+        jnp.asarray(float(dt)),
+        jnp.asarray(1.0),
+    )
     return DriverCarry(state, jnp.asarray(float(dt)), z, z, z, info)

@@ -49,12 +49,12 @@ def _mass_fn(topo):
 
 def mass_matrix(model, q, t: float = 0.0, lam: float = 1.0):
     """Reduced mass J^T M J at ``q`` as a :class:`banded.BlockSystem` (compiled)."""
-    return _mass_fn(model.topology)(jnp.asarray(q), model.params, jnp.asarray(float(t)),
-                                    jnp.asarray(float(lam)))
+    return _mass_fn(model.topology)(
+        jnp.asarray(q), model.params, jnp.asarray(float(t)), jnp.asarray(float(lam))
+    )
 
 
-def modes(model, q=None, n_modes: int = 3, t: float = 0.0, lam: float = 1.0,
-          history=None) -> Modes:
+def modes(model, q=None, n_modes: int = 3, t: float = 0.0, lam: float = 1.0, history=None) -> Modes:
     """The ``n_modes`` lowest modes at reduced state ``q`` (default: reference)."""
     import scipy.linalg as sla
     import scipy.sparse.linalg as spla

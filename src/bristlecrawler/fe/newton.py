@@ -21,8 +21,20 @@ from bristlecrawler.fe import banded
 from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, SUCCESS
 
 
-def newton(residual, q0, topo, *, rtol, atol, max_iter, xscale=0.0, xtol=1e-13,
-           max_backtracks=8, growth=1e6, monotone=False):
+def newton(
+    residual,
+    q0,
+    topo,
+    *,
+    rtol,
+    atol,
+    max_iter,
+    xscale=0.0,
+    xtol=1e-13,
+    max_backtracks=8,
+    growth=1e6,
+    monotone=False,
+):
     """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
     Also converged when the last correction is below ``xtol`` max(|q|, ``xscale``) (xscale:

@@ -93,8 +93,9 @@ def make_static_solver(topo, terms, rtol, atol, max_iter):
         def res(q):
             return static_residual(q, t, lam, history, params, topo, terms)
 
-        q, it, rn, F, status = newton(res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter,
-                                       xscale=jnp.linalg.norm(params.X))
+        q, it, rn, F, status = newton(
+            res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter, xscale=jnp.linalg.norm(params.X)
+        )
         u = assembly.expand(q, t, lam, params, topo)
         info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
         return q, u, info
@@ -110,9 +111,14 @@ def initial_static_state(model, t: float = 0.0) -> StaticState:
     return StaticState(q, u, init_histories(model), jnp.asarray(float(t)), jnp.asarray(0.0))
 
 
-def solve_static(model, t: float = 0.0, state: StaticState | None = None,
-                 options: StaticOptions | None = None, check_support: bool | None = None,
-                 throw: bool = True) -> StaticResult:
+def solve_static(
+    model,
+    t: float = 0.0,
+    state: StaticState | None = None,
+    options: StaticOptions | None = None,
+    check_support: bool | None = None,
+    throw: bool = True,
+) -> StaticResult:
     """Equilibrium at time ``t`` (s) and load factor 1, by load stepping from ``state``.
 
     ``check_support`` (default: when the model has no extra terms) first refuses a
@@ -149,8 +155,15 @@ def solve_static(model, t: float = 0.0, state: StaticState | None = None,
         if dlam < options.min_increment:
             where = f"static solve, increment {len(infos)}"
             msg = message(info, where) + f"; increment cut below {options.min_increment:g}"
-            bad = StepInfo(jnp.asarray(STEP_TOO_SMALL), info.iterations, info.residual,
-                           info.rel_residual, info.t, info.dt, info.lam)
+            bad = StepInfo(
+                jnp.asarray(STEP_TOO_SMALL),
+                info.iterations,
+                info.residual,
+                info.rel_residual,
+                info.t,
+                info.dt,
+                info.lam,
+            )
             infos[-1] = bad
             check(bad, where, throw=False)
             if throw:
@@ -158,8 +171,9 @@ def solve_static(model, t: float = 0.0, state: StaticState | None = None,
 
                 raise SolverError(msg)
             u = assembly.expand(q, t, lam, params, topo)
-            return StaticResult(StaticState(q, u, hist, jnp.asarray(float(t)),
-                                            jnp.asarray(lam)), infos, False, msg)
+            return StaticResult(
+                StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(lam)), infos, False, msg
+            )
     u = assembly.expand(q, t, 1.0, params, topo)
     final = StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(1.0))
     return StaticResult(final, infos, True, "converged")
@@ -181,8 +195,7 @@ def tangent(model, q, t: float = 0.0, lam: float = 1.0, history=None):
     """Reduced tangent stiffness at ``q`` as a :class:`banded.BlockSystem` (compiled)."""
     history = init_histories(model) if history is None else history
     fn = _tangent_fn(model.topology, model.terms)
-    return fn(jnp.asarray(q), model.params, jnp.asarray(float(t)), jnp.asarray(float(lam)),
-              history)
+    return fn(jnp.asarray(q), model.params, jnp.asarray(float(t)), jnp.asarray(float(lam)), history)
 
 
 def linear_solve(model, load, t: float = 0.0):

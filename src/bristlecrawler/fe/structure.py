@@ -179,8 +179,9 @@ class Structure:
         self._links.append((int(slave), int(master), motion))
 
     # -- loads ---------------------------------------------------------------------------
-    def load(self, n: int, fx: float = 0.0, fy: float = 0.0, moment: float = 0.0,
-             amplitude=1.0) -> None:
+    def load(
+        self, n: int, fx: float = 0.0, fy: float = 0.0, moment: float = 0.0, amplitude=1.0
+    ) -> None:
         """Dead point load (N, N, N mm) at node ``n`` times ``amplitude(t)`` (number or motion)."""
         self._check_node(n, "load")
         vals = (float(fx), float(fy), float(moment))
@@ -224,8 +225,9 @@ class Structure:
                 )
         levels = _link_levels(self._links)
         _check_connected(nn, self._elems, self._springs, self._links)
-        red_nodes, red, n_int, bs = _ordering(nn, self._elems, self._springs, self._links,
-                                              self._presc)
+        red_nodes, red, n_int, bs = _ordering(
+            nn, self._elems, self._springs, self._links, self._presc
+        )
         topo = Topology(
             n_nodes=nn,
             elems=tuple((a, b) for a, b, _ in self._elems),
@@ -317,8 +319,9 @@ def _ordering(nn, elems, springs, links, presc):
             n = master_of[n]
         return n
 
-    dofs_of = {n: [d for d in range(3) if (n, d) not in presc] for n in range(nn)
-               if n not in master_of}
+    dofs_of = {
+        n: [d for d in range(3) if (n, d) not in presc] for n in range(nn) if n not in master_of
+    }
     red_nodes = [n for n in range(nn) if dofs_of.get(n)]
     is_red = set(red_nodes)
     nbr: dict[int, set[int]] = {n: set() for n in red_nodes}
@@ -331,8 +334,9 @@ def _ordering(nn, elems, springs, links, presc):
     border: list[int] = []
     while interior:
         pos = {n: i for i, n in enumerate(interior)}
-        span = {n: max((abs(pos[n] - pos[m]) for m in nbr[n] if m in pos), default=0)
-                for n in interior}
+        span = {
+            n: max((abs(pos[n] - pos[m]) for m in nbr[n] if m in pos), default=0) for n in interior
+        }
         worst = max(interior, key=lambda n: (span[n], len(nbr[n])))
         if span[worst] <= 2:
             break

@@ -47,6 +47,5 @@ def init_histories(model) -> tuple:
 def commit_all(terms, u, v, t, history, params) -> tuple:
     """Histories after a converged step."""
     return tuple(
-        term.commit(u, v, t, h, p)
-        for term, h, p in zip(terms, history, params.extra, strict=True)
+        term.commit(u, v, t, h, p) for term, h, p in zip(terms, history, params.extra, strict=True)
     )

@@ -39,8 +39,15 @@ def run_all(contact: bool = True) -> tuple[list[Row], dict]:
         "mesh_convergence": conv,
         **contact_doc,
         "cases": [
-            {"case": r.case, "quantity": r.quantity, "reference": r.reference,
-             "computed": r.computed, "error": r.error, "tol": r.tol, "passed": r.passed}
+            {
+                "case": r.case,
+                "quantity": r.quantity,
+                "reference": r.reference,
+                "computed": r.computed,
+                "error": r.error,
+                "tol": r.tol,
+                "passed": r.passed,
+            }
             for r in rows
         ],
         "passed": all(r.passed for r in rows),

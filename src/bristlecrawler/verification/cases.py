@@ -57,8 +57,14 @@ class Row:
 
 def _row(case, quantity, reference, computed, tol, scale=None) -> Row:
     scale = abs(reference) if scale is None else scale
-    return Row(case, quantity, float(reference), float(computed),
-               float(abs(computed - reference) / scale), tol)
+    return Row(
+        case,
+        quantity,
+        float(reference),
+        float(computed),
+        float(abs(computed - reference) / scale),
+        tol,
+    )
 
 
 @functools.lru_cache(maxsize=8)
@@ -84,8 +90,9 @@ def _tip(result):
 
 def _static(model, **kw):
     # The support check compiles a tangent per mesh; these clamped meshes need none.
-    return solve_static(model, options=StaticOptions(increments=kw.pop("increments", 1), **kw),
-                        check_support=False)
+    return solve_static(
+        model, options=StaticOptions(increments=kw.pop("increments", 1), **kw), check_support=False
+    )
 
 
 def tip_load_runs(n: int = N_ELEM, loads=LOADS) -> list[dict]:
@@ -95,8 +102,14 @@ def tip_load_runs(n: int = N_ELEM, loads=LOADS) -> list[dict]:
     for lp in loads:
         mm = m.with_params(load_vec=jnp.asarray([[0.0, lp * _EI(m), 0.0]]))
         tip = _tip(_static(mm))
-        out.append({"PL2_EI": lp, "u_over_L": float(-tip[0]), "v_over_L": float(tip[1]),
-                    "theta": float(tip[2])})
+        out.append(
+            {
+                "PL2_EI": lp,
+                "u_over_L": float(-tip[0]),
+                "v_over_L": float(tip[1]),
+                "theta": float(tip[2]),
+            }
+        )
     return out
 
 
@@ -107,8 +120,9 @@ def case_tip_load(runs=None) -> list[Row]:
     for r in runs:
         exact = ref.elastica_tip_load(r["PL2_EI"], EXTENSIBILITY)
         for q in ("u_over_L", "v_over_L", "theta"):
-            rows.append(_row("cantilever tip load", f"{q} @ PL2/EI={r['PL2_EI']:g}",
-                             exact[q], r[q], 1e-3))
+            rows.append(
+                _row("cantilever tip load", f"{q} @ PL2/EI={r['PL2_EI']:g}", exact[q], r[q], 1e-3)
+            )
     return rows
 
 
@@ -134,8 +148,16 @@ def _bristle(alpha: float):
     direction = np.array([math.sin(alpha), -math.cos(alpha)])
     X = np.outer(np.linspace(0.0, B["L"], N_ELEM + 1), direction)
     h = np.linspace(B["h0"], B["h1"], N_ELEM + 1)
-    sec = np.column_stack([np.full(N_ELEM, B["E"]), np.full(N_ELEM, B["E"] / 2.9),
-                           np.full(N_ELEM, B["b"]), h[:-1], h[1:], np.zeros(N_ELEM)])
+    sec = np.column_stack(
+        [
+            np.full(N_ELEM, B["E"]),
+            np.full(N_ELEM, B["E"] / 2.9),
+            np.full(N_ELEM, B["b"]),
+            h[:-1],
+            h[1:],
+            np.zeros(N_ELEM),
+        ]
+    )
     return m.with_params(X=jnp.asarray(X), sec=jnp.asarray(sec))
 
 
@@ -160,13 +182,25 @@ def case_bristle() -> tuple[list[Row], dict]:
     k_tip = bristle_stiffness(0.0)
     k_h = bristle_stiffness(math.pi / 4.0)
     rows = [
-        _row("tapered bristle", "tip stiffness (N/mm)",
-             1.0 / ref.tapered_bending_compliance(*args), k_tip, 1e-6),
-        _row("tapered bristle", "horizontal stiffness, alpha=pi/4 (N/mm)",
-             ref.inclined_horizontal_stiffness(*args, math.pi / 4.0), k_h, 1e-6),
+        _row(
+            "tapered bristle",
+            "tip stiffness (N/mm)",
+            1.0 / ref.tapered_bending_compliance(*args),
+            k_tip,
+            1e-6,
+        ),
+        _row(
+            "tapered bristle",
+            "horizontal stiffness, alpha=pi/4 (N/mm)",
+            ref.inclined_horizontal_stiffness(*args, math.pi / 4.0),
+            k_h,
+            1e-6,
+        ),
     ]
-    return rows, {"tapered_tip_stiffness_N_per_mm": k_tip,
-                  "bristle_horizontal_stiffness_N_per_mm": k_h}
+    return rows, {
+        "tapered_tip_stiffness_N_per_mm": k_tip,
+        "bristle_horizontal_stiffness_N_per_mm": k_h,
+    }
 
 
 def case_tip_mass_frequency(mass_ratio: float = 1.0) -> list[Row]:
@@ -207,8 +241,7 @@ def case_energy(n_steps: int = 1000) -> list[Row]:
             drift = float("inf")
             break
         drift = max(drift, abs(energy(s, free)["total"] - E0) / E0)
-    return [Row("trapezoidal energy", f"max |dE|/E0 over {n_steps} steps", 0.0, drift,
-                drift, 1e-6)]
+    return [Row("trapezoidal energy", f"max |dE|/E0 over {n_steps} steps", 0.0, drift, drift, 1e-6)]
 
 
 @functools.lru_cache(maxsize=1)
@@ -253,12 +286,14 @@ def case_hht(alpha: float = -0.05) -> list[Row]:
     for Om in (0.5, 2.0):
         rho, xi = measured_roots(ig, Om)
         rho_t, xi_t = ref.principal_roots(
-            np.linalg.eigvals(ref.hht_amplification(ig.alpha, ig.beta, ig.gamma, Om)))
+            np.linalg.eigvals(ref.hht_amplification(ig.alpha, ig.beta, ig.gamma, Om))
+        )
         rows.append(_row("HHT dissipation", f"spectral radius @ Omega={Om:g}", rho_t, rho, 1e-6))
         rows.append(_row("HHT dissipation", f"damping ratio @ Omega={Om:g}", xi_t, xi, 1e-6))
     rho_inf = measured_roots(ig, 1e3, n=12)[0]
-    rows.append(_row("HHT dissipation", "rho_inf (Omega=1e3)", (1 + alpha) / (1 - alpha),
-                     rho_inf, 1e-3))
+    rows.append(
+        _row("HHT dissipation", "rho_inf (Omega=1e3)", (1 + alpha) / (1 - alpha), rho_inf, 1e-3)
+    )
     return rows
 
 
@@ -267,13 +302,22 @@ def convergence(sizes=(4, 8, 16, 32), load: float = 2.0) -> dict:
     p = log2(e_n / e_2n) of the last halving."""
     exact = ref.elastica_tip_load(load, EXTENSIBILITY)["v_over_L"]
     errs = [abs(tip_load_runs(n, (load,))[0]["v_over_L"] - exact) for n in sizes]
-    orders = [math.log(errs[i] / errs[i + 1]) / math.log(sizes[i + 1] / sizes[i])
-              for i in range(len(sizes) - 1)]
+    orders = [
+        math.log(errs[i] / errs[i + 1]) / math.log(sizes[i + 1] / sizes[i])
+        for i in range(len(sizes) - 1)
+    ]
     return {"sizes": list(sizes), "errors": errs, "orders": orders}
 
 
 def case_convergence(conv=None) -> list[Row]:
     """Observed order of the tip deflection error (reference 2, tol 0.1 relative)."""
     conv = convergence() if conv is None else conv
-    return [_row("mesh convergence", f"order v/L, n={conv['sizes'][-2]}->{conv['sizes'][-1]}",
-                 2.0, conv["orders"][-1], 0.1)]
+    return [
+        _row(
+            "mesh convergence",
+            f"order v/L, n={conv['sizes'][-2]}->{conv['sizes'][-1]}",
+            2.0,
+            conv["orders"][-1],
+            0.1,
+        )
+    ]

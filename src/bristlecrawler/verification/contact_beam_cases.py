@@ -53,9 +53,22 @@ BRISTLE_LENGTH = 5.0
 BEAM_HHT = fe.Integrator.hht(-0.2)
 
 
-def beam_on_substrate(alpha, substrate, law, press, press_time, drag, drag_time, blend,
-                      radius=0.0, offset=(0.0, 0.0), damping=(0.0, 0.0), section=BRISTLE,
-                      length=BRISTLE_LENGTH, n=N_BEAM):
+def beam_on_substrate(
+    alpha,
+    substrate,
+    law,
+    press,
+    press_time,
+    drag,
+    drag_time,
+    blend,
+    radius=0.0,
+    offset=(0.0, 0.0),
+    damping=(0.0, 0.0),
+    section=BRISTLE,
+    length=BRISTLE_LENGTH,
+    n=N_BEAM,
+):
     """Cantilever of ``n`` elements clamped at ``alpha`` (rad) from the vertical; its tip
     carries one contact point (``offset`` mm from the tip node, turning with it; a disc of
     ``radius`` mm) that touches the substrate's surface at x = 0 with no force.
@@ -80,8 +93,14 @@ def beam_on_substrate(alpha, substrate, law, press, press_time, drag, drag_time,
     term = SubstrateContact((tip,))
     s.add_term(term, ())
     model = s.build()
-    contact = SubstrateContact.params(np.asarray(model.params.X), (tip,), substrate, law,
-                                      radius, np.reshape(np.asarray(offset, float), (1, 2)))
+    contact = SubstrateContact.params(
+        np.asarray(model.params.X),
+        (tip,),
+        substrate,
+        law,
+        radius,
+        np.reshape(np.asarray(offset, float), (1, 2)),
+    )
     return model.with_params(extra=(contact,)), term, tip
 
 
@@ -109,8 +128,9 @@ def bristle_compliance(alpha: float, section=BRISTLE, length=BRISTLE_LENGTH) -> 
 # --------------------------------------------------------------------------------------------
 
 #: Substrate of the pressed beam: a land from x = -49 to 50 mm (grooves far away).
-FAR_GROOVES = Grooves(width=1.0, depth=0.25, pitch=100.0, phase=50.0, fillet_top=0.1,
-                      fillet_bottom=0.1)
+FAR_GROOVES = Grooves(
+    width=1.0, depth=0.25, pitch=100.0, phase=50.0, fillet_top=0.1, fillet_bottom=0.1
+)
 
 
 class PressDragRun(NamedTuple):
@@ -147,16 +167,19 @@ def _press_and_drag(alpha, mu, press, direction, dt, steps_to_slip):
     ref = cantilever_drag(bristle_compliance(alpha), press, mu, direction)
     scale = max(ref.normal_at_press, ref.normal_in_slip)
     # penetration and stick drift 1e-4 of the press: the plane is rigid to 1e-4
-    law = CoulombLaw.for_reference_load(mu, load=scale, max_penetration=1e-4 * press,
-                                        max_stick_drift=1e-4 * press)
+    law = CoulombLaw.for_reference_load(
+        mu, load=scale, max_penetration=1e-4 * press, max_stick_drift=1e-4 * press
+    )
     # The drive speed only needs the order of magnitude of the onset (found up to 1.5 x).
     t_slip = steps_to_slip * dt
     t_end, t_press = 1.5 * t_slip, 0.1 * t_slip
     drag = direction * ref.drag_at_slip / t_slip * t_end
-    model, term, tip = beam_on_substrate(alpha, FAR_GROOVES, law, press, t_press, drag,
-                                         t_end, blend=t_press)
-    _, obs = run(model, _rest_state(model, term), t_end, dt, _tip_observer(tip),
-                 integrator=BEAM_HHT)
+    model, term, tip = beam_on_substrate(
+        alpha, FAR_GROOVES, law, press, t_press, drag, t_end, blend=t_press
+    )
+    _, obs = run(
+        model, _rest_state(model, term), t_end, dt, _tip_observer(tip), integrator=BEAM_HHT
+    )
     t, clamp_x, states, p_n, f_t = (np.array(c) for c in zip(*obs, strict=True))
     h = np.abs(clamp_x)
     h_slip, k = slip_onset(h, f_t, p_n, states, mu)
@@ -170,9 +193,14 @@ def _press_and_drag(alpha, mu, press, direction, dt, steps_to_slip):
     return {"drag_at_slip": h_slip, "normal_at_press": float(n0), "normal_in_slip": n_slip}
 
 
-def pressed_beam_drag_fe(alpha: float = math.pi / 6, mu: float = 0.65, press: float = 0.005,
-                         direction: float = -1.0, dt: float = 2e-3,
-                         steps_to_slip: int = 100) -> PressDragRun:
+def pressed_beam_drag_fe(
+    alpha: float = math.pi / 6,
+    mu: float = 0.65,
+    press: float = 0.005,
+    direction: float = -1.0,
+    dt: float = 2e-3,
+    steps_to_slip: int = 100,
+) -> PressDragRun:
     """The paper's bristle clamped at ``alpha`` from the vertical, its tip on a flat plane:
     the clamp goes down ``press`` mm, and is dragged along ``direction`` (+1: +x, the way
     the tip leans; -1: the tip trails, the default: pushing the leaning tip wedges it and
@@ -190,11 +218,13 @@ def pressed_beam_drag_fe(alpha: float = math.pi / 6, mu: float = 0.65, press: fl
     compliance (1e-4 of the press by construction) and second-order terms.
     """
     ref = cantilever_drag(bristle_compliance(alpha), press, mu, direction)
-    raw = tuple(_press_and_drag(alpha, mu, p, direction, dt, steps_to_slip)
-                for p in (press, 0.5 * press))
+    raw = tuple(
+        _press_and_drag(alpha, mu, p, direction, dt, steps_to_slip) for p in (press, 0.5 * press)
+    )
     lim = {k: press * (2.0 * raw[1][k] / (0.5 * press) - raw[0][k] / press) for k in raw[0]}
-    return PressDragRun(lim["drag_at_slip"], lim["normal_at_press"], lim["normal_in_slip"],
-                        raw, ref)
+    return PressDragRun(
+        lim["drag_at_slip"], lim["normal_at_press"], lim["normal_in_slip"], raw, ref
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -273,15 +303,25 @@ def _trapezoid_work(force, u):
 
 #: The paper's grooves (1 mm wide, 0.25 mm deep, pitch 2 mm assumed) with 0.1 mm fillets,
 #: placed so that the tip starts on a land 0.3 mm from the first groove.
-DRAG_GROOVES = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=0.7, fillet_top=0.1,
-                       fillet_bottom=0.1)
+DRAG_GROOVES = Grooves(
+    width=1.0, depth=0.25, pitch=2.0, phase=0.7, fillet_top=0.1, fillet_bottom=0.1
+)
 
 
-def grooved_drag_fe(alpha: float = math.pi / 4, mu: float = 0.65, press: float = 0.15,
-                    drag: float = -3.8, speed: float = 20.0, dt: float = 2e-4,
-                    zeta: float = 1.0, grooves: Grooves = DRAG_GROOVES,
-                    press_time: float = 0.02, radius: float = 0.0,
-                    max_dp: float | None = 0.005, integrator=None) -> GrooveDragRun:
+def grooved_drag_fe(
+    alpha: float = math.pi / 4,
+    mu: float = 0.65,
+    press: float = 0.15,
+    drag: float = -3.8,
+    speed: float = 20.0,
+    dt: float = 2e-4,
+    zeta: float = 1.0,
+    grooves: Grooves = DRAG_GROOVES,
+    press_time: float = 0.02,
+    radius: float = 0.0,
+    max_dp: float | None = 0.005,
+    integrator=None,
+) -> GrooveDragRun:
     """The paper's bristle at ``alpha``, its tip on a land of ``grooves``, pressed
     ``press`` mm (in ``press_time`` s) and dragged ``drag`` mm at ``speed`` mm/s
     (negative: the tip trails, drops into each groove and climbs its far wall).
@@ -313,27 +353,53 @@ def grooved_drag_fe(alpha: float = math.pi / 4, mu: float = 0.65, press: float =
     law = CoulombLaw.for_reference_load(mu, load=1.0, max_penetration=1e-4)
     # the lower corner of the end face: h1/2 from the axis on the side facing the
     # substrate (-e_b, e_b = (cos alpha, sin alpha) the normal of the axis)
-    offset = (np.zeros(2) if radius > 0
-              else -0.5 * BRISTLE.h1 * np.array([math.cos(alpha), math.sin(alpha)]))
+    offset = (
+        np.zeros(2)
+        if radius > 0
+        else -0.5 * BRISTLE.h1 * np.array([math.cos(alpha), math.sin(alpha)])
+    )
     k_tip = 1.0 / np.linalg.eigvalsh(bristle_compliance(alpha)).max()
     mass = 0.25 * BRISTLE.rho * BRISTLE.b * 0.5 * (BRISTLE.h0 + BRISTLE.h1) * BRISTLE_LENGTH
     omega = math.sqrt(k_tip / mass)
     blend = 0.01
     t_end = abs(drag) / speed + blend
-    model, term, tip = beam_on_substrate(alpha, grooves, law, press, press_time, drag, t_end,
-                                         blend, radius, offset,
-                                         damping=(2.0 * zeta * omega, 0.0))
+    model, term, tip = beam_on_substrate(
+        alpha,
+        grooves,
+        law,
+        press,
+        press_time,
+        drag,
+        t_end,
+        blend,
+        radius,
+        offset,
+        damping=(2.0 * zeta * omega, 0.0),
+    )
     state = _rest_state(model, term)
     clamp = 0
     obs_fn = _energy_observer(model.topology, clamp)
     params = model.params
     first = obs_fn(state, params)
     if max_dp is None:
-        res, obs = run(model, state, t_end, dt, lambda st: obs_fn(st, params),
-                       integrator=integrator or BEAM_HHT)
+        res, obs = run(
+            model,
+            state,
+            t_end,
+            dt,
+            lambda st: obs_fn(st, params),
+            integrator=integrator or BEAM_HHT,
+        )
     else:
-        res = run_resolving(model, state, t_end, dt, lambda st: obs_fn(st, params),
-                            max_dp, integrator=integrator or BEAM_HHT)
+        res = run_resolving(
+            model,
+            state,
+            t_end,
+            dt,
+            lambda st: obs_fn(st, params),
+            max_dp,
+            integrator=integrator or BEAM_HHT,
+        )
         obs = res.observed
     obs = [jax.device_get(first), *obs]
     get = {k: np.array([o[k] for o in obs]) for k in obs[0]}
@@ -350,8 +416,11 @@ def grooved_drag_fe(alpha: float = math.pi / 4, mu: float = 0.65, press: float =
     rest = energies["elastic"] + energies["kinetic"] + energies["friction"] + damping
     err = float(np.max(np.abs(work - rest)) / np.max(np.abs(work)))
     c, s = np.cos(u[:, tip, 2]), np.sin(u[:, tip, 2])
-    point = np.asarray(params.X)[tip] + u[:, tip, :2] + np.column_stack(
-        [c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
+    point = (
+        np.asarray(params.X)[tip]
+        + u[:, tip, :2]
+        + np.column_stack([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
+    )
     top, depth = float(grooves.top), float(grooves.depth)
     below = point[:, 1] - radius < top - 0.5 * depth
     entered = int(np.sum(below[1:] & ~below[:-1]))
@@ -362,8 +431,20 @@ def grooved_drag_fe(alpha: float = math.pi / 4, mu: float = 0.65, press: float =
     left = phase + k * pitch
     passed = int(np.sum((left > lo) & (left + width < hi)))
     pen = float(np.max(get["p_n"]) / float(law.k_n))
-    return GrooveDragRun(get["t"], point, get["state"], get["p_n"], get["f_t"], energies,
-                         passed, entered, climbs, err, pen, res.rejected)
+    return GrooveDragRun(
+        get["t"],
+        point,
+        get["state"],
+        get["p_n"],
+        get["f_t"],
+        energies,
+        passed,
+        entered,
+        climbs,
+        err,
+        pen,
+        res.rejected,
+    )
 
 
 __all__ = [

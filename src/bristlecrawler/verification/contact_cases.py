@@ -93,8 +93,19 @@ def _slip_dp(old, new):
     return jnp.max(jnp.where(slipping, jnp.abs(new.p_n - old.p_n), 0.0))
 
 
-def run_resolving(model, state, t_end, dt, observe, max_dp, integrator=HHT,
-                  dt_min=None, dt_floor=None, grow=1.5, easy_iterations=3):
+def run_resolving(
+    model,
+    state,
+    t_end,
+    dt,
+    observe,
+    max_dp,
+    integrator=HHT,
+    dt_min=None,
+    dt_floor=None,
+    grow=1.5,
+    easy_iterations=3,
+):
     """Time stepping as :func:`fe.integrate` (halve a step on failure, grow it by ``grow``
     after <= ``easy_iterations`` Newton iterations, steps <= ``dt`` s), and a converged step
     is also cut when the normal force of a slipping contact point changes by more than
@@ -125,8 +136,9 @@ def run_resolving(model, state, t_end, dt, observe, max_dp, integrator=HHT,
         h_try = min(h, t_end - t)
         new, info = step(state, params, jnp.asarray(h_try))
         ok = int(info.status) == SUCCESS
-        if ok and (h_try <= dt_floor
-                   or float(_slip_dp(state.history[0], new.history[0])) <= max_dp):
+        if ok and (
+            h_try <= dt_floor or float(_slip_dp(state.history[0], new.history[0])) <= max_dp
+        ):
             state, t = new, float(new.t)
             times.append(t)
             observed.append(observe(state))
@@ -136,8 +148,10 @@ def run_resolving(model, state, t_end, dt, observe, max_dp, integrator=HHT,
         rejected += 1
         h = 0.5 * h_try
         if h < dt_min:
-            raise SolverError(message(info, f"dynamics, step {len(times) + 1}")
-                              + f"; dt cut below dt_min = {dt_min:g} s")
+            raise SolverError(
+                message(info, f"dynamics, step {len(times) + 1}")
+                + f"; dt cut below dt_min = {dt_min:g} s"
+            )
     return ResolvedRun(np.asarray(times), jax.device_get(observed), rejected)
 
 
@@ -265,14 +279,25 @@ def coulomb_oscillator_fe(
         params.mass, params.stiffness, (0.0, -params.gravity), (-1.0, 0.0), 0.0, 1.0, law
     )
     limit = params.mu * weight / float(law.k_t)  # stick drift at the friction limit, mm
-    state = _block_at_rest(model, term, m, params.x0, -weight / float(law.k_n),
-                           anchor_shift=math.copysign(limit, params.x0))
+    state = _block_at_rest(
+        model,
+        term,
+        m,
+        params.x0,
+        -weight / float(law.k_n),
+        anchor_shift=math.copysign(limit, params.x0),
+    )
     t_end = t_end if t_end is not None else ref.stop_time + 0.5
     # HHT (alpha = -0.05) damps the stiff stick-penalty mode (omega dt ~ 3) that the
     # trapezoidal rule would keep ringing; at the oscillator's own frequency
     # (omega dt = 0.01) its algorithmic damping ratio is 6e-9.
-    res, obs = run(model, state, t_end, dt, lambda st: (st.u[m, 0], st.v[m, 0], st.a[m, 0],
-                                                        st.history[0].dissipation[0]))
+    res, obs = run(
+        model,
+        state,
+        t_end,
+        dt,
+        lambda st: (st.u[m, 0], st.v[m, 0], st.a[m, 0], st.history[0].dissipation[0]),
+    )
     x, v, a, diss = (np.array(c) for c in zip(*obs, strict=True))
     t = np.asarray(res.times)
     times, turns = _reversals(t, x, v, a, vtol=1e-3 * params.omega * abs(params.x0))
@@ -298,8 +323,9 @@ class InclineRun(NamedTuple):
     travel_after_onset: float
 
 
-def incline_push_fe(tan_angle: float = 0.1, mu: float = 0.3, dt: float = 1e-3,
-                    steps_to_onset: int = 200) -> InclineRun:
+def incline_push_fe(
+    tan_angle: float = 0.1, mu: float = 0.3, dt: float = 1e-3, steps_to_onset: int = 200
+) -> InclineRun:
     """A 1 kg block on an incline, pushed by a horizontal force that grows slowly.
 
     Computed in the incline's frame: the plane is y = 0 and gravity has components
@@ -320,11 +346,22 @@ def incline_push_fe(tan_angle: float = 0.1, mu: float = 0.3, dt: float = 1e-3,
     t_onset = steps_to_onset * dt
     drive_time = 2.5 * t_onset
     model, term, m = block_on_plane(
-        mass, stiffness, G_MM_S2 * np.array([-math.sin(a), -math.cos(a)]), e,
-        2.5 * guess * weight / stiffness, drive_time, law,
+        mass,
+        stiffness,
+        G_MM_S2 * np.array([-math.sin(a), -math.cos(a)]),
+        e,
+        2.5 * guess * weight / stiffness,
+        drive_time,
+        law,
     )
-    state = _block_at_rest(model, term, m, 0.0, -weight * math.cos(a) / float(law.k_n),
-                           anchor_shift=weight * math.sin(a) / float(law.k_t))
+    state = _block_at_rest(
+        model,
+        term,
+        m,
+        0.0,
+        -weight * math.cos(a) / float(law.k_n),
+        anchor_shift=weight * math.sin(a) / float(law.k_t),
+    )
     X = np.asarray(model.params.X)
 
     def observe(st):

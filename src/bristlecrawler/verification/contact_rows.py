@@ -40,13 +40,22 @@ def coulomb_oscillator_rows(run=None) -> tuple[list[Row], dict]:
     n_ref, n_fe = len(ref.positions), len(run.turning_points)
     rows = [_row(case, "turning points (release + reversals + stop)", n_ref, n_fe, 0.0)]
     for k in range(1, min(n_ref, n_fe)):
-        rows.append(_row(case, f"turning point {k} (mm), error / x0", ref.positions[k],
-                         run.turning_points[k], 1e-4, scale=x0))
+        rows.append(
+            _row(
+                case,
+                f"turning point {k} (mm), error / x0",
+                ref.positions[k],
+                run.turning_points[k],
+                1e-4,
+                scale=x0,
+            )
+        )
     rows.append(_row(case, "stop time (s)", ref.stop_time, run.stop_time, 3e-3))
     stiffness = 0.1  # N/mm, DEFAULT_OSCILLATOR
     loss = 0.5 * stiffness * (ref.positions[0] ** 2 - ref.positions[-1] ** 2)
-    rows.append(_row(case, "friction dissipation (mJ) vs spring energy lost", loss,
-                     run.dissipation, 1e-4))
+    rows.append(
+        _row(case, "friction dissipation (mJ) vs spring energy lost", loss, run.dissipation, 1e-4)
+    )
     doc = {
         "coulomb_oscillator_turning_points_mm": [float(x) for x in run.turning_points[:6]],
         "coulomb_oscillator_turning_times_s": [float(t) for t in run.turning_times[:6]],
@@ -65,8 +74,7 @@ def incline_rows(run=None) -> tuple[list[Row], dict]:
     from bristlecrawler.verification.contact_cases import incline_push_fe
 
     run = incline_push_fe() if run is None else run
-    rows = [_row("block on incline", "push / weight at slip onset", run.reference, run.ratio,
-                 1e-4)]
+    rows = [_row("block on incline", "push / weight at slip onset", run.reference, run.ratio, 1e-4)]
     return rows, {"incline_push_ratio": float(run.ratio)}
 
 
@@ -84,16 +92,17 @@ def pressed_drag_rows(run=None) -> tuple[list[Row], dict]:
     case = "pressed-dragged bristle"
     rows = [
         _row(case, "clamp drag at slip onset (mm)", ref.drag_at_slip, run.drag_at_slip, 1e-3),
-        _row(case, "normal force after press (N)", ref.normal_at_press, run.normal_at_press,
-             1e-3),
+        _row(case, "normal force after press (N)", ref.normal_at_press, run.normal_at_press, 1e-3),
         _row(case, "normal force in slip (N)", ref.normal_in_slip, run.normal_in_slip, 1e-3),
     ]
-    doc = {"pressed_bristle_drag": {
-        "drag_at_slip_mm": run.drag_at_slip,
-        "normal_at_press_N": run.normal_at_press,
-        "normal_in_slip_N": run.normal_in_slip,
-        "raw": [dict(r) for r in run.raw],
-    }}
+    doc = {
+        "pressed_bristle_drag": {
+            "drag_at_slip_mm": run.drag_at_slip,
+            "normal_at_press_N": run.normal_at_press,
+            "normal_in_slip_N": run.normal_in_slip,
+            "raw": [dict(r) for r in run.raw],
+        }
+    }
     return rows, doc
 
 
@@ -117,27 +126,47 @@ def grooved_drag_rows(run=None) -> tuple[list[Row], dict]:
     run = grooved_drag_fe() if run is None else run
     case = "grooved drag"
     rows = [
-        _row(case, "energy balance, max |W_in - sum E| / max W_in", 0.0,
-             run.balance_rel_error, 1e-3, scale=1.0),
-        _row(case, "grooves entered (of grooves passed)", run.grooves_passed,
-             run.grooves_entered, 0.0, scale=max(run.grooves_passed, 1)),
-        _row(case, "grooves climbed out of (of grooves passed)", run.grooves_passed,
-             run.climbs, 0.0, scale=max(run.grooves_passed, 1)),
+        _row(
+            case,
+            "energy balance, max |W_in - sum E| / max W_in",
+            0.0,
+            run.balance_rel_error,
+            1e-3,
+            scale=1.0,
+        ),
+        _row(
+            case,
+            "grooves entered (of grooves passed)",
+            run.grooves_passed,
+            run.grooves_entered,
+            0.0,
+            scale=max(run.grooves_passed, 1),
+        ),
+        _row(
+            case,
+            "grooves climbed out of (of grooves passed)",
+            run.grooves_passed,
+            run.climbs,
+            0.0,
+            scale=max(run.grooves_passed, 1),
+        ),
         _bound_row(case, "peak penetration (mm), bound", 1e-4, run.max_penetration),
     ]
     E = run.energies
-    doc = {"grooved_drag": {
-        "energy_balance_rel_error": run.balance_rel_error,
-        "energies_mJ": {k: float(v[-1]) for k, v in E.items()},
-        "grooves_passed": run.grooves_passed,
-        "grooves_entered": run.grooves_entered,
-        "grooves_climbed": run.climbs,
-        "peak_normal_force_N": float(np.max(run.p_n)),
-        "peak_friction_force_N": float(np.max(np.abs(run.f_t))),
-        "max_penetration_mm": run.max_penetration,
-        "steps": int(len(run.t) - 1),
-        "rejected_steps": run.rejected_steps,
-    }}
+    doc = {
+        "grooved_drag": {
+            "energy_balance_rel_error": run.balance_rel_error,
+            "energies_mJ": {k: float(v[-1]) for k, v in E.items()},
+            "grooves_passed": run.grooves_passed,
+            "grooves_entered": run.grooves_entered,
+            "grooves_climbed": run.climbs,
+            "peak_normal_force_N": float(np.max(run.p_n)),
+            "peak_friction_force_N": float(np.max(np.abs(run.f_t))),
+            "max_penetration_mm": run.max_penetration,
+            "steps": int(len(run.t) - 1),
+            "rejected_steps": run.rejected_steps,
+        }
+    }
     return rows, doc
 
 
@@ -156,16 +185,24 @@ def default_runs() -> ContactRuns:
     from bristlecrawler.verification import contact_beam_cases as beam
     from bristlecrawler.verification import contact_cases as block
 
-    return ContactRuns(block.coulomb_oscillator_fe(), block.incline_push_fe(),
-                       beam.pressed_beam_drag_fe(), beam.grooved_drag_fe())
+    return ContactRuns(
+        block.coulomb_oscillator_fe(),
+        block.incline_push_fe(),
+        beam.pressed_beam_drag_fe(),
+        beam.grooved_drag_fe(),
+    )
 
 
 def contact_rows(runs: ContactRuns | None = None) -> tuple[list[Row], dict]:
     """All contact cases: (rows, JSON values)."""
     runs = default_runs() if runs is None else runs
     rows, doc = [], {}
-    for fn, run in ((coulomb_oscillator_rows, runs.oscillator), (incline_rows, runs.incline),
-                    (pressed_drag_rows, runs.pressed), (grooved_drag_rows, runs.grooved)):
+    for fn, run in (
+        (coulomb_oscillator_rows, runs.oscillator),
+        (incline_rows, runs.incline),
+        (pressed_drag_rows, runs.pressed),
+        (grooved_drag_rows, runs.grooved),
+    ):
         r, d = fn(run)
         rows += r
         doc.update(d)

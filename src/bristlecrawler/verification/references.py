@@ -29,12 +29,12 @@ def elastica_tip_load(load: float, extensibility: float = 0.0) -> dict[str, floa
     def rhs(_s, y):
         th, k, _x, _y = y
         stretch = 1.0 + load * extensibility * math.sin(th)
-        return [k, -load * stretch * math.cos(th), stretch * math.cos(th),
-                stretch * math.sin(th)]
+        return [k, -load * stretch * math.cos(th), stretch * math.cos(th), stretch * math.sin(th)]
 
     def shoot(k0):
-        sol = solve_ivp(rhs, (0.0, 1.0), [0.0, k0, 0.0, 0.0], method="DOP853",
-                        rtol=1e-12, atol=1e-14)
+        sol = solve_ivp(
+            rhs, (0.0, 1.0), [0.0, k0, 0.0, 0.0], method="DOP853", rtol=1e-12, atol=1e-14
+        )
         return sol.y[:, -1]
 
     # theta'(L) is -load at k0 = 0 and > 0 at k0 = 2 load (the moment arm is < 2 L).
@@ -85,8 +85,11 @@ def tip_mass_beta(mass_ratio: float) -> float:
     """
 
     def f(b):
-        return 1.0 + math.cos(b) * math.cosh(b) + mass_ratio * b * (
-            math.cos(b) * math.sinh(b) - math.sin(b) * math.cosh(b))
+        return (
+            1.0
+            + math.cos(b) * math.cosh(b)
+            + mass_ratio * b * (math.cos(b) * math.sinh(b) - math.sin(b) * math.cosh(b))
+        )
 
     grid = np.linspace(1e-3, 2.0, 2001)
     vals = [f(b) for b in grid]
@@ -104,16 +107,20 @@ def hht_amplification(alpha: float, beta: float, gamma: float, Omega: float) -> 
     """
     h = Omega
     left = np.array([[1.0 + alpha, 0.0, 1.0], [1.0, 0.0, -beta * h**2], [0.0, 1.0, -gamma * h]])
-    right = np.array([[alpha, 0.0, 0.0], [1.0, h, (0.5 - beta) * h**2],
-                      [0.0, 1.0, (1.0 - gamma) * h]])
+    right = np.array(
+        [[alpha, 0.0, 0.0], [1.0, h, (0.5 - beta) * h**2], [0.0, 1.0, (1.0 - gamma) * h]]
+    )
     return np.linalg.solve(left, right)
 
 
 def principal_roots(eigs) -> tuple[float, float]:
     """(spectral radius, algorithmic damping ratio -ln(rho)/Omega_bar) of the principal pair."""
     eigs = np.asarray(eigs, dtype=complex)
-    z = eigs[np.argmax(np.abs(eigs.imag))] if np.any(np.abs(eigs.imag) > 1e-12) else eigs[
-        np.argmax(np.abs(eigs))]
+    z = (
+        eigs[np.argmax(np.abs(eigs.imag))]
+        if np.any(np.abs(eigs.imag) > 1e-12)
+        else eigs[np.argmax(np.abs(eigs))]
+    )
     rho = float(np.abs(z))
     ang = float(abs(np.angle(z)))
     return rho, (-math.log(rho) / ang if ang > 0 else float("nan"))

@@ -15,11 +15,21 @@ from bristlecrawler.fe import Sin2, Structure, TaperedRect
 PAPER_BRISTLE = TaperedRect(E=1.1, b=30.0, h0=3.0, h1=0.5, rho=1.3e-9, nu=0.45)
 
 
-def two_bristle_crawler(n_per_bristle: int = 20, alpha: float = math.pi / 4, *,
-                        length: float = 100.0, link: float = 5.0, bristle_length: float = 5.0,
-                        end_mass: float = 27.5e-6, s_max: float = 20.0, period: float = 20.0,
-                        section: TaperedRect = PAPER_BRISTLE, fix_body: bool = False,
-                        gravity: bool = True, terms=()):
+def two_bristle_crawler(
+    n_per_bristle: int = 20,
+    alpha: float = math.pi / 4,
+    *,
+    length: float = 100.0,
+    link: float = 5.0,
+    bristle_length: float = 5.0,
+    end_mass: float = 27.5e-6,
+    s_max: float = 20.0,
+    period: float = 20.0,
+    section: TaperedRect = PAPER_BRISTLE,
+    fix_body: bool = False,
+    gravity: bool = True,
+    terms=(),
+):
     """Build the crawler; returns (structure builder, dict of node indices).
 
     Left body end: rigid body (mass ``end_mass`` t, no rotational inertia) carrying the body
