@@ -28,6 +28,7 @@ from .kinematic import kinematic_history
         (["paper", "--set", "nonsense"], "section.key=value"),
         (["paper", "--set", "bristle.colour=3"], "colour"),
         (["paper", "--cycles", "0"], "cycles"),
+        (["paper", "--actuator", "hydraulic"], "--actuator"),
         (["missing.toml"], "not found"),
     ],
 )
@@ -87,6 +88,35 @@ def test_run_writes_every_output(run_cli, tmp_path, monkeypatch):
     with xr.open_dataset(out / "crawler.nc") as ds:
         np.testing.assert_allclose(ds["delta"].values, h.delta)
         assert ds.sizes["frame"] <= 2 * 40 + 2
+
+
+def test_actuator_option_selects_the_sma_history(run_cli, tmp_path, monkeypatch):
+    seen = {}
+
+    def fake(sc, options=None):
+        seen["kind"] = sc.actuation.kind
+        return kinematic_history(cycles=1, samples=40)
+
+    monkeypatch.setattr("bristlecrawler.crawler.run.simulate_crawler", fake)
+    out = tmp_path / "run"
+    code, _, err = run_cli(
+        [
+            "simulate",
+            "paper",
+            "--actuator",
+            "sma",
+            "--cycles",
+            "1",
+            "--no-figures",
+            "--no-vtk",
+            "--out",
+            str(out),
+            "--json",
+        ]
+    )
+    assert code == 0, err
+    assert seen["kind"] == "sma"
+    assert json.loads((out / "config.json").read_text())["actuation"]["kind"] == "sma"
 
 
 def test_overrides_are_validated_like_the_file():

@@ -26,6 +26,14 @@ def simulate_cmd(
             "e.g. --set bristle.alpha_deg=0 --set substrate.pitch=3.0",
         ),
     ] = None,
+    actuator: Annotated[
+        str | None,
+        typer.Option(
+            "--actuator",
+            help="sin2 (prescribed s~ sin^2(pi t/T)) | sma (closed-loop SMA actuator model) "
+            "[default: the scenario's actuation.kind]",
+        ),
+    ] = None,
     out: Annotated[
         Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
     ] = None,
@@ -52,6 +60,12 @@ def simulate_cmd(
     sets = list(assign or [])
     if cycles is not None:
         sets.append(f"actuation.cycles={cycles}")
+    if actuator is not None:
+        if actuator not in ("sin2", "sma"):
+            from bristlecrawler.errors import InputError
+
+            raise InputError(f"--actuator must be sin2 or sma, got {actuator!r}")
+        sets.append(f'actuation.kind="{actuator}"')
     if no_figures:
         sets += ["output.figures=false", "output.animation=false"]
     if no_vtk:
