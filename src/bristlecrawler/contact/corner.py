@@ -213,8 +213,9 @@ def _pair(P, arc, side, C, rho):
     the FE Newton, costs four points per pair instead of the whole outline.
     """
     n = P.shape[0] - 1
-    i, k, m, found, seg_wins, vsign = _select(jax.lax.stop_gradient(P), side,
-                                              jax.lax.stop_gradient(C))
+    i, k, m, found, seg_wins, vsign = _select(
+        jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C)
+    )
     # Segment i: its end points and the neighbouring ones that set the vertex normals.
     Q = P[jnp.stack([(i - 1) % n, i, i + 1, (i + 2) % n])]
     # Normals of segments i - 1, i, i + 1 and the blended normals at vertices i, i + 1
@@ -360,6 +361,10 @@ class FaceCornerContact:
         (g, s), pull = jax.vjp(lambda u: self._gs(u, history.k0, params), u)
         fg, fs = generalized_forces(g, s, history.anchor, params.law)
         return pull((fg, fs))[0]
+
+    def penetration(self, history, params):
+        """Deepest penetration (mm) of a committed history: p_N / k_N."""
+        return jnp.max(history.p_n) / params.law.k_n
 
     def init_history(self, topology, params):
         return self.history_at(jnp.zeros((topology.n_nodes, 3)), params)

@@ -159,6 +159,10 @@ class SubstrateContact:
         )
         return pull(f)[0]
 
+    def penetration(self, history, params):
+        """Deepest penetration (mm) of a committed history: p_N / k_N."""
+        return jnp.max(history.p_n) / params.law.k_n
+
     def init_history(self, topology, params):
         """Anchors at the reference positions (a run that starts from the reference)."""
         return self.history_at(jnp.zeros((topology.n_nodes, 3)), params)

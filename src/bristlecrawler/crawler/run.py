@@ -122,6 +122,8 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         rtol=sc.solver.tolerance,
         max_iter=sc.solver.max_iterations,
         line_search=sc.solver.line_search,
+        predictor=sc.solver.predictor,
+        max_penetration=sc.contact.max_penetration,
     )
     topo, terms = cm.model.topology, cm.model.terms
     driver = fe.make_driver(topo, terms, ig, observe, opt.capacity, opt.grow, opt.easy_iterations)

@@ -32,8 +32,8 @@ from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.newton import newton
-from bristlecrawler.fe.status import STEP_TOO_SMALL, SUCCESS, StepInfo, message
-from bristlecrawler.fe.terms import commit_all, init_histories
+from bristlecrawler.fe.status import PENETRATION, STEP_TOO_SMALL, SUCCESS, StepInfo, message
+from bristlecrawler.fe.terms import commit_all, init_histories, max_penetration
 
 
 @pytree()
@@ -57,6 +57,9 @@ class Integrator:
     atol with F the sum of the inertial, internal, damping and external force norms (N).
     line_search: "growth" (halve a correction only when the residual blows up) or
     "monotone" (halve it until the residual decreases; see :func:`newton.newton`).
+    max_penetration: a converged step whose committed contact state has a penetration
+    deeper than this (mm; terms that report one, see :mod:`terms`) is rejected with status
+    PENETRATION, so an adaptive driver cuts it (default: no limit).
     predictor: "tangent" (default) starts Newton from q0 + dq with J dq = -(R + dR/dt dt),
     the residual *linearised* in the step's change of the prescribed motions (supports,
     link stretches); "constant" starts from the last converged q. See :func:`make_step`.
@@ -70,12 +73,15 @@ class Integrator:
     max_iter: int = 12
     line_search: str = "growth"
     predictor: str = "tangent"
+    max_penetration: float = math.inf
 
     def __post_init__(self) -> None:
         if self.line_search not in ("growth", "monotone"):
             raise InputError(
                 f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
             )
+        if not self.max_penetration > 0.0:
+            raise InputError(f"max_penetration must be > 0 mm, got {self.max_penetration}")
         if self.predictor not in ("tangent", "constant"):
             raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
 
@@ -203,6 +209,13 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
         it = it + extra
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)
+        if math.isfinite(ig.max_penetration):
+            # A converged state with a contact point deep in a solid is a wrong root: with
+            # penalty contact a rigid corner that reaches the medial axis of a thin beam
+            # end is pushed out through the other face (tunnelling); a smaller step keeps
+            # Newton's iterates near the contact surface.
+            too_deep = max_penetration(terms, h1, params) > ig.max_penetration
+            status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
         new = DynState(t1, q1, u1, v1, a1, h1)
         good = status == SUCCESS
         out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)

@@ -18,6 +18,7 @@ NONFINITE = 2
 STEP_TOO_SMALL = 3
 SINGULAR = 4
 ROTATION_LIMIT = 5
+PENETRATION = 6
 
 _TEXT = {
     SUCCESS: "converged",
@@ -26,6 +27,7 @@ _TEXT = {
     STEP_TOO_SMALL: "step cut below its minimum without convergence",
     SINGULAR: "tangent is singular",
     ROTATION_LIMIT: "increment rotated a node by more than the allowed rotation increment",
+    PENETRATION: "converged with a contact penetration beyond the allowed depth",
 }
 
 

@@ -16,6 +16,10 @@ batched:
 * ``init_history(topology, params) -> PyTree`` initial history.
 * ``commit(u, v, t, history, params) -> PyTree`` history after a converged step.
 
+A term may also define ``penetration(history, params) -> float``: the deepest penetration
+(mm) of a committed history; the dynamic step rejects a converged step where it exceeds
+``Integrator.max_penetration`` (:func:`max_penetration`).
+
 Tangents come from autodiff of ``residual``. Sparsity contract: the contribution at node i
 may depend only on the DOFs of node i (or of nodes rigidly linked to it); the banded tangent
 extraction relies on it. Static solves call it with v = 0.
@@ -49,3 +53,15 @@ def commit_all(terms, u, v, t, history, params) -> tuple:
     return tuple(
         term.commit(u, v, t, h, p) for term, h, p in zip(terms, history, params.extra, strict=True)
     )
+
+
+def max_penetration(terms, history, params):
+    """Deepest penetration (mm) over the terms that report one (0 when none does)."""
+    import jax.numpy as jnp
+
+    depths = [
+        term.penetration(h, p)
+        for term, h, p in zip(terms, history, params.extra, strict=True)
+        if hasattr(term, "penetration")
+    ]
+    return jnp.max(jnp.stack(depths)) if depths else jnp.asarray(0.0)

@@ -93,6 +93,11 @@ class SolverConfig(_Section):
         description="Newton line search: halve a correction until the residual decreases "
         "('monotone'), or only when it blows up ('growth')",
     )
+    predictor: Literal["tangent", "constant"] = Field(
+        "tangent",
+        description="start of each step's Newton: the residual linearised in the stroke's "
+        "increment ('tangent'), or the last converged state ('constant')",
+    )
 
 
 class OutputConfig(_Section):
@@ -133,6 +138,15 @@ class ContactConfig(_Section):
         allow_inf_nan=False,
         description="load (N) at which penetration stays below 1e-3 mm and stick drift "
         "below 1e-4 mm; default: the weight on one bristle",
+    )
+    max_penetration: float = Field(
+        0.025,
+        gt=0.0,
+        allow_inf_nan=True,
+        description="a time step that converges with a contact penetration deeper than "
+        "this (mm) is rejected and cut: a land corner that reaches the middle of the 0.5 mm "
+        "tip is pushed out through the wrong face (25 times the design penetration; inf: "
+        "no limit)",
     )
 
 
