@@ -141,7 +141,13 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             if bool(failed):
                 info = carry.info
                 msg = fe.message(info, f"{where}, step {len(records)}")
-                raise _Failed(msg + f"; dt cut below dt_min = {sc.solver.dt_min:g} s", carry)
+                from bristlecrawler.fe.status import describe
+
+                raise _Failed(
+                    msg + f"; dt cut below dt_min = {sc.solver.dt_min:g} s (last "
+                    f"attempt: {describe(int(carry.cause))})",
+                    carry,
+                )
             bar.update(float(carry.state.t), steps=len(records), iters=iterations)
         return carry
 

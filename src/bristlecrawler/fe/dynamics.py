@@ -383,7 +383,8 @@ def _scan(step, state, params, dt, n_steps):
 class DriverCarry:
     """State of the compiled adaptive driver between chunks: the dynamic state, the next
     step size (s), counters (accepted steps, rejected steps, Newton iterations of accepted
-    and rejected steps) and the last step's info."""
+    and rejected steps), the last step's info, and ``cause``: the status of the last
+    attempt itself (which failure made a STEP_TOO_SMALL)."""
 
     state: DynState
     dt: Any
@@ -391,6 +392,7 @@ class DriverCarry:
     rejected: Any
     iterations: Any
     info: StepInfo
+    cause: Any
 
 
 @functools.lru_cache(maxsize=32)
@@ -440,6 +442,7 @@ def make_driver(
             )
             dt = jnp.where(good, grown, 0.5 * h)
             failed = ~good & (0.5 * h < dt_min)
+            cause = info.status
             info = dataclasses.replace(info, status=jnp.where(failed, STEP_TOO_SMALL, info.status))
             nxt = DriverCarry(
                 state=jax.tree.map(lambda n, o: jnp.where(good, n, o), new, carry.state),
@@ -448,6 +451,7 @@ def make_driver(
                 rejected=carry.rejected + ~good,
                 iterations=carry.iterations + info.iterations,
                 info=info,
+                cause=cause,
             )
             return nxt, buf, k + good, failed
 
@@ -471,4 +475,4 @@ def driver_start(state: DynState, dt: float) -> DriverCarry:
         jnp.asarray(float(dt)),
         jnp.asarray(1.0),
     )
-    return DriverCarry(state, jnp.asarray(float(dt)), z, z, z, info)
+    return DriverCarry(state, jnp.asarray(float(dt)), z, z, z, info, jnp.asarray(SUCCESS))
