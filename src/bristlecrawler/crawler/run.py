@@ -105,6 +105,7 @@ def _observer(cm: CrawlerModel):
 def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> CrawlerHistory:
     """Run the scenario and return its :class:`CrawlerHistory` (raises SolverError on failure)."""
     from bristlecrawler import fe
+    from bristlecrawler.fe.status import describe
     from bristlecrawler.viz.progress import sim_progress
 
     opt = options or RunOptions()
@@ -141,8 +142,6 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             if bool(failed):
                 info = carry.info
                 msg = fe.message(info, f"{where}, step {len(records)}")
-                from bristlecrawler.fe.status import describe
-
                 raise _Failed(
                     msg + f"; dt cut below dt_min = {sc.solver.dt_min:g} s (last "
                     f"attempt: {describe(int(carry.cause))})",
