@@ -185,3 +185,82 @@ def test_window_follows_a_face_and_carries_its_pairs():
     assert np.all(np.asarray(h1.state)[0, -k:] == 0)
     total = float(jnp.sum(h0.dissipation) + jnp.sum(ref.dissipation))
     assert float(jnp.sum(h1.dissipation)) == pytest.approx(total, rel=1e-12)
+
+
+class _Undeclared(FaceCornerContact):
+    """The corner term without its coupling declaration (what the solver saw before)."""
+
+    def couplings(self):
+        return ()
+
+
+def _pressed_strip(term_cls, n_el=12):
+    """A 6 mm strip lying 2 micrometres deep on the lands of 1 mm grooves (several corners
+    in contact, mu = 0.5), clamped at its left end: model, term, displacement, history."""
+    s = fe.Structure()
+    a = s.node(0.0, 0.25 - 2e-3)
+    sec = fe.TaperedRect(E=1.0, b=1.0, h0=0.5, h1=0.5, rho=1e-9, nu=0.3)
+    nodes = s.chain(a, (6.0, 0.25 - 2e-3), n_el, sec)
+    s.fix(a)
+    outline, off = beam_outline(nodes, np.full(len(nodes), 0.5), (0.0, 1.0))
+    term = term_cls((outline,), 6)
+    law = CoulombLaw.for_reference_load(0.5, load=1.0)
+    sub = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=0.25)
+    s.add_term(term, FaceCornerContact.params(np.asarray(s._X), (outline,), [off], sub, law))
+    m = s.build()
+    rng = np.random.default_rng(3)
+    u = jnp.zeros((m.topology.n_nodes, 3))
+    h = term.history_at(u, m.params.extra[0])
+    # bend the strip a little (rotations up to 1 mrad, displacements up to 0.3 um):
+    # every pair reads four outline points that move differently
+    du = rng.uniform(-1.0, 1.0, (m.topology.n_nodes, 3)) * np.array([3e-4, 3e-4, 1e-3])
+    return m, term, u + jnp.asarray(du).at[0].set(0.0), h
+
+
+def _tangents(m, u, h):
+    from bristlecrawler.fe import assembly, banded
+
+    topo, p = m.topology, m.params
+    q = jnp.asarray(u)[np.array([n for n, _ in topo.red]), np.array([d for _, d in topo.red])]
+
+    def fn(q):
+        full = assembly.expand(q, 0.0, 1.0, p, topo)
+        f = assembly.terms_residual(full, jnp.zeros_like(full), 0.0, (h,), p, m.terms)
+        return jax.vjp(lambda q: assembly.expand(q, 0.0, 1.0, p, topo), q)[1](f)[0]
+
+    dense = np.asarray(jax.jacfwd(fn)(q))
+    n = len(q)
+    banded_J = banded.to_scipy(banded.extract(fn, q, topo)[1], topo).toarray()[:n, :n]
+    return dense, banded_J
+
+
+def test_banded_tangent_keeps_every_coupling_of_the_corner_term():
+    """The corner term reads four consecutive outline points per pair (nodes up to three
+    apart); it declares them, the structure widens its band, and the coloured-JVP tangent
+    equals the dense Jacobian. Without the declaration (the solver before this fix) the
+    couplings outside the chain's band are lost, which made Newton converge linearly."""
+    m, term, u, h = _pressed_strip(FaceCornerContact)
+    stuck = term.commit(u, u, 0.0, h, m.params.extra[0])
+    assert np.count_nonzero(np.asarray(stuck.state) == 1) >= 3  # several pairs in stick
+    dense, band = _tangents(m, u, h)
+    assert np.abs(dense).max() > 0
+    np.testing.assert_allclose(band, dense, rtol=0, atol=1e-9 * np.abs(dense).max())
+
+    m0, _, u0, h0 = _pressed_strip(_Undeclared)
+    assert m0.topology.bs < m.topology.bs
+    dense0, band0 = _tangents(m0, u0, h0)
+    np.testing.assert_allclose(dense0, dense, rtol=1e-12, atol=1e-12)  # same physics
+    assert np.abs(band0 - dense0).max() > 1e-3 * np.abs(dense0).max()
+
+
+def test_a_term_coupling_a_missing_node_is_rejected():
+    from bristlecrawler.errors import InputError
+
+    s = fe.Structure()
+    a = s.node(0.0, 0.0)
+    s.chain(a, (1.0, 0.0), 2, fe.TaperedRect(E=1.0, b=1.0, h0=0.1, h1=0.1, rho=1e-9, nu=0.3))
+    s.fix(a)
+    term = FaceCornerContact(((0, 1, 2, 7, 0),), 1)
+    s.add_term(term, ())
+    with pytest.raises(InputError, match="node 7"):
+        s.build()

@@ -25,6 +25,7 @@ import numpy as np
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.model import DOF_NAMES, Model, Params, Topology
 from bristlecrawler.fe.motion import as_motion
+from bristlecrawler.fe.terms import node_groups
 
 _DOF = {"x": 0, "y": 1, "theta": 2, "t": 2}
 
@@ -200,7 +201,8 @@ class Structure:
         self._damping = (float(a0), float(a1))
 
     def add_term(self, term, params=()) -> None:
-        """Extra residual term (contact, ...), see :mod:`bristlecrawler.fe.terms`."""
+        """Extra residual term (contact, ...), see :mod:`bristlecrawler.fe.terms`; the node
+        groups it declares with ``couplings()`` widen the tangent's band at :meth:`build`."""
         self._terms.append((term, params))
 
     # -- assembly -----------------------------------------------------------------------
@@ -225,8 +227,13 @@ class Structure:
                 )
         levels = _link_levels(self._links)
         _check_connected(nn, self._elems, self._springs, self._links)
+        groups = [g for term, _ in self._terms for g in node_groups(term)]
+        for g in groups:
+            bad = [n for n in g if not 0 <= n < nn]
+            if bad:
+                raise InputError(f"a term couples node {bad[0]}, which does not exist")
         red_nodes, red, n_int, bs = _ordering(
-            nn, self._elems, self._springs, self._links, self._presc
+            nn, self._elems, self._springs, self._links, self._presc, groups
         )
         topo = Topology(
             n_nodes=nn,
@@ -304,13 +311,16 @@ def _check_connected(nn, elems, springs, links) -> None:
             )
 
 
-def _ordering(nn, elems, springs, links, presc):
+def _ordering(nn, elems, springs, links, presc, groups=()):
     """Reduced DOFs in solver order: chain-banded interior first, border DOFs last.
 
     Each free node owns its unprescribed DOFs; a slave node's DOFs belong to its master's
     owner. Nodes that couple far apart in the natural numbering (the crawler body, which
     touches the roots of both bristle chains) go to the border, greedily, until every
     remaining coupling spans at most two positions; the interior is then block tridiagonal.
+    ``groups``: node groups coupled by extra terms (:func:`terms.node_groups`, e.g. the
+    four outline points a corner contact reads); they do not move nodes to the border but
+    widen the block size so that the tangent keeps their couplings.
     """
     master_of = {s: m for s, m, _ in links}
 
@@ -350,6 +360,10 @@ def _ordering(nn, elems, springs, links, presc):
     for i, (n, _) in enumerate(red[:n_int]):
         first.setdefault(n, i)
         last[n] = i
+    for g in groups:
+        owners = {owner(n) for n in g} & is_red
+        for a in owners:
+            nbr[a] |= owners - {a}
     w = 0
     for n in interior:
         w = max(w, last[n] - first[n])

@@ -21,8 +21,13 @@ A term may also define ``penetration(history, params) -> float``: the deepest pe
 ``Integrator.max_penetration`` (:func:`max_penetration`).
 
 Tangents come from autodiff of ``residual``. Sparsity contract: the contribution at node i
-may depend only on the DOFs of node i (or of nodes rigidly linked to it); the banded tangent
-extraction relies on it. Static solves call it with v = 0.
+may depend only on the DOFs of node i (or of nodes rigidly linked to it), unless the term
+declares wider couplings with ``couplings() -> tuple[tuple[int, ...], ...]``: groups of
+nodes (static) such that the term couples the DOFs of nodes of one group only. The
+structure includes them in its DOF ordering and block size (:meth:`Structure.add_term`),
+so the banded tangent extraction (:func:`banded.extract`) sees every coupling; an
+undeclared coupling outside the band is silently dropped from the tangent (Newton then
+converges linearly, or not at all). Static solves call ``residual`` with v = 0.
 """
 
 from __future__ import annotations
@@ -38,6 +43,12 @@ class Term(Protocol):
     def init_history(self, topology: Any, params: Any) -> Any: ...
 
     def commit(self, u: Any, v: Any, t: Any, history: Any, params: Any) -> Any: ...
+
+
+def node_groups(term) -> tuple[tuple[int, ...], ...]:
+    """The node groups a term declares with ``couplings()`` (none by default)."""
+    groups = term.couplings() if hasattr(term, "couplings") else ()
+    return tuple(tuple(int(n) for n in g) for g in groups)
 
 
 def init_histories(model) -> tuple:
