@@ -97,25 +97,31 @@ def test_failure_is_a_status_and_throw_raises(model):
         solve_static(big, options=opts, check_support=False)
 
 
-def _drive(model, state, t_end, dt, scheme, capacity, dt_min):
-    """Run the compiled driver to t_end in chunks of ``capacity`` steps."""
-    from bristlecrawler.fe import driver_start, make_driver
+def _observe_tip(st, params):
+    return {"t": st.t, "tip": st.u[-1, :2]}
 
-    def observe(st, params):
-        return {"t": st.t, "tip": st.u[-1, :2]}
 
-    run = make_driver(model.topology, model.terms, scheme, observe, capacity)
+def _drive(model, state, t_end, dt, scheme, capacity, dt_min, host=False):
+    """Run the compiled (or host-loop) driver to t_end in chunks of ``capacity`` steps."""
+    from bristlecrawler.fe import driver_start, make_driver, make_host_driver
+
+    make = make_host_driver if host else make_driver
+    run = make(model.topology, model.terms, scheme, _observe_tip, capacity)
     carry, rows, failed = driver_start(state, dt), [], False
     while float(carry.state.t) < t_end - 1e-12 and not failed:
         carry, buf, k, failed = run(carry, model.params, t_end, dt_min, dt)
-        rows.append(jax.tree.map(lambda b, k=int(k): np.asarray(b[:k]), buf))
+        if int(k):
+            rows.append(jax.tree.map(lambda b, k=int(k): np.asarray(b[:k]), buf))
         failed = bool(failed)
+    if not rows:
+        return carry, {"t": np.zeros(0), "tip": np.zeros((0, 2))}, failed
     return carry, jax.tree.map(lambda *r: np.concatenate(r), *rows), failed
 
 
-def test_compiled_driver_takes_the_steps_of_the_python_driver(model):
+@pytest.mark.parametrize("host", [False, True], ids=["compiled", "host-loop"])
+def test_compiled_driver_takes_the_steps_of_the_python_driver(model, host):
     """Same step rules (cut on failure, grow after easy steps): same accepted times and
-    states, whatever the chunking of the compiled loop."""
+    states, whatever the chunking of the loop, compiled or on the host."""
     from bristlecrawler.fe import integrate
 
     m = Rayleigh(0.5, 0.0).apply(model)
@@ -130,21 +136,22 @@ def test_compiled_driver_takes_the_steps_of_the_python_driver(model):
         easy_iterations=4,
         observe=lambda st: np.asarray(st.u[-1, :2]),
     )
-    carry, rec, failed = _drive(m, s0, 40.0, 4.0, scheme, capacity=7, dt_min=4e-4)
+    carry, rec, failed = _drive(m, s0, 40.0, 4.0, scheme, capacity=7, dt_min=4e-4, host=host)
     assert not failed and ref.ok
     assert ref.rejected == int(carry.rejected) and ref.rejected > 0
     np.testing.assert_allclose(rec["t"], ref.times, rtol=1e-13)
     np.testing.assert_allclose(rec["tip"], np.stack(ref.observed), rtol=1e-9, atol=1e-12)
 
 
-def test_compiled_driver_reports_a_step_it_cannot_cut(model):
+@pytest.mark.parametrize("host", [False, True], ids=["compiled", "host-loop"])
+def test_compiled_driver_reports_a_step_it_cannot_cut(model, host):
     """A Newton that cannot converge (one iteration allowed on a nonlinear step) stops the
     driver with STEP_TOO_SMALL at the state before the step, not with a wrong answer."""
     from bristlecrawler.fe.status import STEP_TOO_SMALL
 
     s0 = _released(model, 5.0)
     scheme = Integrator.hht(rtol=1e-14, max_iter=1)
-    carry, rec, failed = _drive(model, s0, 10.0, 1.0, scheme, capacity=4, dt_min=0.1)
+    carry, rec, failed = _drive(model, s0, 10.0, 1.0, scheme, capacity=4, dt_min=0.1, host=host)
     assert failed
     assert int(carry.info.status) == STEP_TOO_SMALL
     assert float(carry.state.t) < 10.0

@@ -24,7 +24,7 @@ import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build_crawler, stroke_duration
-from bristlecrawler.errors import SolverError
+from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.scenario.schema import Scenario
 
 
@@ -32,7 +32,10 @@ from bristlecrawler.scenario.schema import Scenario
 class RunOptions:
     """contact: "tip" or "all" nodes (None: the scenario's); dt0: first step, s; progress:
     show a progress bar; capacity: steps per compiled chunk; grow, easy_iterations: the
-    step grows by ``grow`` after a step that took <= ``easy_iterations`` Newton iterations."""
+    step grows by ``grow`` after a step that took <= ``easy_iterations`` Newton iterations;
+    driver: "host" (:func:`fe.make_host_driver`, the loop in Python), "compiled"
+    (:func:`fe.make_driver`, one XLA loop) or "auto" (host on a CPU, compiled elsewhere: on
+    a CPU the compiled loop is 5-7 times slower for this model, see make_host_driver)."""
 
     contact: str | None = None
     dt0: float = 1e-3
@@ -42,6 +45,11 @@ class RunOptions:
     capacity: int = 512
     grow: float = 1.5
     easy_iterations: int = 4
+    driver: str = "auto"
+
+    def __post_init__(self) -> None:
+        if self.driver not in ("auto", "host", "compiled"):
+            raise InputError(f"driver must be 'auto', 'host' or 'compiled', got {self.driver!r}")
 
 
 class _Failed(Exception):
@@ -127,7 +135,9 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         max_penetration=sc.contact.max_penetration,
     )
     topo, terms = cm.model.topology, cm.model.terms
-    driver = fe.make_driver(topo, terms, ig, observe, opt.capacity, opt.grow, opt.easy_iterations)
+    host = opt.driver == "host" or (opt.driver == "auto" and jax.default_backend() == "cpu")
+    make = fe.make_host_driver if host else fe.make_driver
+    driver = make(topo, terms, ig, observe, opt.capacity, opt.grow, opt.easy_iterations)
 
     def advance(carry, params, t_stop, dt_max, where):
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""

@@ -25,6 +25,7 @@ from bristlecrawler.fe.dynamics import (  # noqa: E402
     initial_state,
     integrate,
     make_driver,
+    make_host_driver,
     make_step,
     run_fixed,
 )
@@ -73,6 +74,7 @@ __all__ = [
     "initial_state",
     "integrate",
     "make_driver",
+    "make_host_driver",
     "make_step",
     "message",
     "modes",
