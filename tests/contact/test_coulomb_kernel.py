@@ -36,9 +36,13 @@ def test_penalties_sized_for_the_reference_load():
     g = -PAPER_TIP_LOAD / float(law.k_n)
     assert g == pytest.approx(-1e-3)
     assert float(normal_force(g, law)) == pytest.approx(PAPER_TIP_LOAD)
-    # at the friction limit the stick drift is 1e-4 mm
-    r = return_map(g, 1e-4 * (1 - 1e-9), 0.0, law)
+    # at the friction limit the stick drift is 1e-4 mm (just below the limit: within
+    # STICK_TOL of it a point counts as slipping, with the same force)
+    r = return_map(g, 1e-4 * (1 - 1e-7), 0.0, law)
     assert int(r.state) == STICK
+    assert float(r.f_t) == pytest.approx(0.65 * PAPER_TIP_LOAD, rel=1e-6)
+    r = return_map(g, 1e-4 * (1 - 1e-9), 0.0, law)
+    assert int(r.state) == SLIP
     assert float(r.f_t) == pytest.approx(0.65 * PAPER_TIP_LOAD, rel=1e-8)
 
 
