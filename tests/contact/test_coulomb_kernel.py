@@ -12,6 +12,7 @@ from bristlecrawler.contact import (
     PAPER_TIP_LOAD,
     SLIP,
     STICK,
+    STICK_TOL,
     CoulombLaw,
     friction_potential,
     generalized_forces,
@@ -158,6 +159,11 @@ def test_matches_play_operator_and_energy_balance_at_constant_load(steps):
     path = np.concatenate([[0.0], np.cumsum(steps)])
     g = -2e-4
     limit = 0.65 * 0.2
+    # A reversal smaller than STICK_TOL of the stick drift after a slip still counts as slip
+    # (see coulomb.STICK_TOL): the force is then off by at most STICK_TOL * limit and the
+    # step's energy identity by at most 2 STICK_TOL limit^2 / k_t.
+    f_tol = 1e-12 + STICK_TOL * limit
+    e_tol = 1e-15 + 2.0 * STICK_TOL * limit**2 / 2000.0
     a, f_prev = 0.0, 0.0
     got = []
     for k in range(1, len(path)):
@@ -165,11 +171,11 @@ def test_matches_play_operator_and_energy_balance_at_constant_load(steps):
         # exact work of the step = psi(trial) - psi(start) (monotone step, Huber potential)
         w = float(friction_potential(path[k] - a, limit, 2000.0)) - f_prev**2 / 4000.0
         assert w == pytest.approx(
-            float(r.f_t) ** 2 / 4000.0 - f_prev**2 / 4000.0 + float(r.dissipation), abs=1e-15
+            float(r.f_t) ** 2 / 4000.0 - f_prev**2 / 4000.0 + float(r.dissipation), abs=e_tol
         )
         a, f_prev = float(r.anchor), float(r.f_t)
         got.append(f_prev)
-    np.testing.assert_allclose(got, _play(path, limit, 2000.0), atol=1e-12)
+    np.testing.assert_allclose(got, _play(path, limit, 2000.0), atol=f_tol)
 
 
 @given(
@@ -181,6 +187,7 @@ def test_no_energy_created_over_random_loading_paths(path):
     """Discrete dissipation inequality with varying normal load: the backward-Euler work put
     in, sum f_k (s_k - s_(k-1)), covers the stored tangential energy plus the dissipation."""
     s_prev, a, work, dissipated = 0.0, 0.0, 0.0, 0.0
+    band = 0.0  # what STICK_TOL may cost per step: 2 STICK_TOL limit^2 / k_t (see above)
     for ds, g in path:
         s = s_prev + ds
         r = step(g, s, a, LAW)
@@ -189,5 +196,6 @@ def test_no_energy_created_over_random_loading_paths(path):
         work += float(r.f_t) * ds
         dissipated += float(r.dissipation)
         stored = float(r.f_t) ** 2 / 4000.0
-        assert work >= stored + dissipated - 1e-14
+        band += 2.0 * STICK_TOL * (0.65 * float(r.p_n)) ** 2 / 2000.0
+        assert work >= stored + dissipated - 1e-14 - band
         s_prev, a = s, float(r.anchor)

@@ -10,7 +10,7 @@ Public API (units: mm, N, s, mJ; everything float64 JAX, pure, jit/vmap/grad-abl
 * Coulomb kernel: :class:`CoulombLaw`, :func:`return_map` -> :class:`CoulombStep`,
   :func:`incremental_potential`, :func:`generalized_forces`, :func:`normal_force`,
   :func:`normal_energy`, :func:`friction_potential`; states :data:`OPEN`, :data:`STICK`,
-  :data:`SLIP`; :data:`PAPER_TIP_LOAD`.
+  :data:`SLIP`; :data:`PAPER_TIP_LOAD`; :data:`STICK_TOL` (the stick/slip tie).
 * contact node on a substrate: :func:`node_potential`, :func:`node_force`, :func:`node_step`.
 * TOML/pydantic edge: :func:`parse_substrate` and the ``*Config`` models.
 """
@@ -20,6 +20,7 @@ from bristlecrawler.contact.coulomb import (
     PAPER_TIP_LOAD,
     SLIP,
     STICK,
+    STICK_TOL,
     CoulombLaw,
     CoulombStep,
     friction_potential,
@@ -55,6 +56,7 @@ __all__ = [
     "PAPER_TIP_LOAD",
     "SLIP",
     "STICK",
+    "STICK_TOL",
     "CoulombLaw",
     "CoulombStep",
     "Flat",
