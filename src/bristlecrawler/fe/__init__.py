@@ -14,18 +14,20 @@ jax.config.update("jax_enable_x64", True)
 
 from bristlecrawler.fe.banded import BlockSystem  # noqa: E402
 from bristlecrawler.fe.cache import enable_compilation_cache  # noqa: E402
-from bristlecrawler.fe.dynamics import (  # noqa: E402
+from bristlecrawler.fe.drivers import (  # noqa: E402
     DriverCarry,
+    driver_start,
+    make_driver,
+    make_host_driver,
+)
+from bristlecrawler.fe.dynamics import (  # noqa: E402
     DynResult,
     DynState,
     Integrator,
     Rayleigh,
-    driver_start,
     energy,
     initial_state,
     integrate,
-    make_driver,
-    make_host_driver,
     make_step,
     run_fixed,
 )
