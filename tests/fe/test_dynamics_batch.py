@@ -1,5 +1,7 @@
 """One compiled step, vmapped over a batch of designs; failures come back as statuses."""
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -157,3 +159,50 @@ def test_compiled_driver_reports_a_step_it_cannot_cut(model, host):
     assert float(carry.state.t) < 10.0
     assert len(rec["t"]) == int(carry.accepted)
     assert "step cut below its minimum" in message(carry.info, "dynamics")
+
+
+@dataclasses.dataclass(frozen=True)
+class _TipStepCheck:
+    """Error ratio of a step: how far the tip moved in it over ``tol`` (mm)."""
+
+    tol: float
+
+    def __call__(self, prev, new):
+        return jnp.linalg.norm(new["tip"] - prev["tip"]) / self.tol
+
+
+@pytest.mark.parametrize("host", [False, True], ids=["compiled", "host-loop"])
+def test_driver_check_bounds_every_accepted_step(model, host):
+    """A step the check refuses is cut (status STEP_ERROR) and retried: every accepted step
+    satisfies the bound, the steps are smaller than without the check, and the compiled
+    and host loops take the same steps."""
+    from bristlecrawler.fe import driver_start, make_driver, make_host_driver
+    from bristlecrawler.fe.status import STEP_ERROR
+
+    m = model
+    s0 = _released(m, 5.0)  # tip deflection 0.81 mm, first period about 600 s
+    scheme = Integrator.hht(rtol=1e-12)
+    tol = 0.2 * float(jnp.linalg.norm(s0.u[-1, :2]))
+    runs = {}
+    for use_host in (host, not host):
+        make = make_host_driver if use_host else make_driver
+        run = make(m.topology, m.terms, scheme, _observe_tip, 64, 1.5, 4, _TipStepCheck(tol))
+        carry = driver_start(s0, 40.0)
+        carry, buf, k, failed = run(carry, m.params, 400.0, 1e-6, 40.0)
+        assert not bool(failed)
+        runs[use_host] = (carry, jax.tree.map(lambda b, k=int(k): np.asarray(b[:k]), buf))
+    carry, rec = runs[host]
+    tips = np.concatenate([np.asarray(s0.u[-1:, :2]), rec["tip"]])
+    moves = np.linalg.norm(np.diff(tips, axis=0), axis=1)
+    assert np.all(moves <= tol * (1 + 1e-12))
+    assert int(carry.rejected) > 0 and int(carry.cause) in (0, STEP_ERROR)
+    # Without the check the same driver takes fewer, longer steps that break the bound.
+    make = make_host_driver if host else make_driver
+    free = make(m.topology, m.terms, scheme, _observe_tip, 64, 1.5, 4)
+    _, b2, k2, _ = free(driver_start(s0, 40.0), m.params, 400.0, 1e-6, 40.0)
+    tips2 = np.concatenate([np.asarray(s0.u[-1:, :2]), np.asarray(b2["tip"][: int(k2)])])
+    assert int(k2) < len(rec["t"])
+    assert np.max(np.linalg.norm(np.diff(tips2, axis=0), axis=1)) > tol
+    other_carry, other = runs[not host]
+    np.testing.assert_allclose(rec["t"], other["t"], rtol=1e-12)
+    assert int(carry.rejected) == int(other_carry.rejected)

@@ -6,6 +6,16 @@ at the settled state (contact tangent included) and the Rayleigh damping is set 
 scenario's ratio there (paper: 0.15, mass-proportional). Step 2: the prescribed stroke,
 HHT-alpha with adaptive steps. Every accepted step is recorded by one compiled observer.
 
+Step control: a step is cut when Newton fails, when a node turns too far or a contact
+point goes too deep (:class:`fe.Integrator`), and when the step's own energy balance does
+not close to ``solver.energy_tol`` (:class:`EnergyCheck`): the connector work over the
+step (trapezoidal rule in F_c ds) minus the changes of the stored energies and of the
+dissipations. A large implicit step across a snap (a tip dropping into a groove, a face
+slipping off a land edge) jumps to the new equilibrium and loses part of the released
+energy to the integrator (HHT's numerical dissipation and the endpoint quadratures);
+that loss is the step's balance error, so bounding it makes the steps resolve the snap
+and makes the run's energy balance a controlled quantity.
+
 Connector force: the constraint force that the actuated link transmits to the right end's
 subtree (right end, its link and bristle), ``lambda = sum (M a + C v + f_int + f_c - f_ext)``
 over that subtree; F_c is its component along the body, positive when pulling the ends
@@ -26,6 +36,28 @@ from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build_crawler, stroke_duration
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.scenario.schema import Scenario
+
+
+@dataclass(frozen=True)
+class EnergyCheck:
+    """Energy-balance error of a step over ``tol`` (mJ), from two consecutive observer
+    records: ``|dW_c - d(elastic + penalty + kinetic + potential + friction) - dD_damp|``
+    with ``dW_c = (F0 + F1)/2 (s1 - s0)`` and ``dD_damp = (P0 + P1)/2 dt``, the rules the
+    recorded series use (:func:`_history`), so the run's balance residual is the sum of
+    these errors. Hashable, for the drivers' caches."""
+
+    tol: float
+
+    @staticmethod
+    def error(prev, new):
+        """Signed energy-balance error of the step from ``prev`` to ``new``, mJ."""
+        e0, e1 = prev["energies"], new["energies"]
+        work = 0.5 * (prev["fc"] + new["fc"]) * (new["stretch"] - prev["stretch"])
+        damp = 0.5 * (e0[5] + e1[5]) * (new["t"] - prev["t"])
+        return work - jnp.sum(e1[:5] - e0[:5]) - damp
+
+    def __call__(self, prev, new):
+        return jnp.abs(self.error(prev, new)) / self.tol
 
 
 @dataclass(frozen=True)
@@ -113,7 +145,7 @@ def _observer(cm: CrawlerModel):
 def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> CrawlerHistory:
     """Run the scenario and return its :class:`CrawlerHistory` (raises SolverError on failure)."""
     from bristlecrawler import fe
-    from bristlecrawler.fe.status import describe
+    from bristlecrawler.fe.status import STEP_ERROR, describe
     from bristlecrawler.viz.progress import sim_progress
 
     opt = options or RunOptions()
@@ -137,9 +169,13 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     topo, terms = cm.model.topology, cm.model.terms
     host = opt.driver == "host" or (opt.driver == "auto" and jax.default_backend() == "cpu")
     make = fe.make_host_driver if host else fe.make_driver
+    check = EnergyCheck(sc.solver.energy_tol) if math.isfinite(sc.solver.energy_tol) else None
     driver = make(topo, terms, ig, observe, opt.capacity, opt.grow, opt.easy_iterations)
+    stroke_driver = make(
+        topo, terms, ig, observe, opt.capacity, opt.grow, opt.easy_iterations, check
+    )
 
-    def advance(carry, params, t_stop, dt_max, where):
+    def advance(carry, params, t_stop, dt_max, where, driver=driver):
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""
         nonlocal iterations, rejected
         while float(carry.state.t) < t_stop - 1e-9:
@@ -152,9 +188,12 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             if bool(failed):
                 info = carry.info
                 msg = fe.message(info, f"{where}, step {len(records)}")
+                cause = describe(int(carry.cause))
+                if int(carry.cause) == STEP_ERROR:
+                    cause += ": its energy error exceeds solver.energy_tol = "
+                    cause += f"{sc.solver.energy_tol:g} mJ"
                 raise _Failed(
-                    msg + f"; dt cut below dt_min = {sc.solver.dt_min:g} s (last "
-                    f"attempt: {describe(int(carry.cause))})",
+                    msg + f"; dt cut below dt_min = {sc.solver.dt_min:g} s (last attempt: {cause})",
                     carry,
                 )
             bar.update(float(carry.state.t), steps=len(records), iters=iterations)
@@ -200,7 +239,9 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         while t < t_end - 1e-9:
             t_next = min(t + chunk, t_end)
             try:
-                carry = advance(carry, model.params, t_next, sc.solver.dt_max, "stroke")
+                carry = advance(
+                    carry, model.params, t_next, sc.solver.dt_max, "stroke", stroke_driver
+                )
             except _Failed as e:
                 err = SolverError(
                     f"stroke step near t = {float(e.carry.state.t):.4g} s: {e.args[0]}"
@@ -224,6 +265,29 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     return _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle)
 
 
+def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
+    """Energy series (mJ, zero at the first record) from the observer's records: times
+    ``t`` (s), connector force ``fc`` (N), shortening ``s`` (mm) and ``en`` (M, 6) =
+    (elastic, kinetic, potential, friction dissipation, penalty energy, damping power
+    in mW). The contact penalty energy is part of the elastic energy; the connector work
+    and the damping dissipation are trapezoidal sums, the rules :class:`EnergyCheck`
+    applies to each step."""
+    t, fc, s, en = (np.asarray(a, float) for a in (t, fc, s, en))
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (fc[1:] + fc[:-1]) * np.diff(s))])
+    damp_power = en[:, 5]
+    damping_diss = np.concatenate(
+        [[0.0], np.cumsum(0.5 * (damp_power[1:] + damp_power[:-1]) * np.diff(t))]
+    )
+    return {
+        "elastic": en[:, 0] - en[0, 0] + en[:, 4] - en[0, 4],
+        "kinetic": en[:, 1] - en[0, 1],
+        "potential": en[:, 2] - en[0, 2],
+        "friction": en[:, 3] - en[0, 3],
+        "damping": damping_diss,
+        "external": work,
+    }
+
+
 def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle):
     t = np.array([float(r["t"]) for r in records])
     x = np.stack([np.asarray(r["x"]) for r in records])
@@ -231,21 +295,7 @@ def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settl
     en = np.stack([np.asarray(r["energies"]) for r in records])
     s = np.array([float(r["stretch"]) for r in records])
     tip_state = np.stack([np.asarray(r["tip_state"]) for r in records])
-    work = np.concatenate([[0.0], np.cumsum(0.5 * (fc[1:] + fc[:-1]) * np.diff(s))])
-    damp_power = en[:, 5]
-    damping_diss = np.concatenate(
-        [[0.0], np.cumsum(0.5 * (damp_power[1:] + damp_power[:-1]) * np.diff(t))]
-    )
-    energies = {
-        "elastic": en[:, 0] - en[0, 0],
-        "kinetic": en[:, 1] - en[0, 1],
-        "potential": en[:, 2] - en[0, 2],
-        "friction": en[:, 3] - en[0, 3],
-        "penalty": en[:, 4] - en[0, 4],
-        "damping": damping_diss,
-        "external": work,
-    }
-    energies["elastic"] = energies["elastic"] + energies.pop("penalty")
+    energies = energy_series(t, fc, s, en)
     tips = np.stack([x[:, cm.tips[0]], x[:, cm.tips[1]]], axis=1)
     # Contact state of the tips: contact term's node order starts with the tips for "tip".
     xs = np.linspace(x[..., 0].min() - 5.0, x[..., 0].max() + 5.0, 4000)
@@ -260,7 +310,7 @@ def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settl
         left=x[:, cm.left],
         right=x[:, cm.right],
         connector_force=fc,
-        connector_work=work,
+        connector_work=energies["external"],
         tip_position=tips,
         tip_state=tip_state,
         energies=energies,

@@ -2,7 +2,8 @@
 
 Both take steps with the rules of :func:`dynamics.integrate` (halve on failure, grow after
 easy steps, stay within [dt_min, dt_max]) and record an observer after every accepted
-step: :func:`make_driver` as one compiled XLA loop (the form for a GPU and for ``vmap``
+step (and, given a ``check``, reject a converged step whose error estimate the check
+refuses): :func:`make_driver` as one compiled XLA loop (the form for a GPU and for ``vmap``
 batches), :func:`make_host_driver` as a host loop around the compiled step (faster on a
 CPU for models with contact terms). :func:`driver_start` makes the first carry.
 """
@@ -18,7 +19,7 @@ import jax.numpy as jnp
 
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.dynamics import DynState, Integrator, StepInfo, make_step
-from bristlecrawler.fe.status import STEP_TOO_SMALL, SUCCESS
+from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS
 
 
 @pytree()
@@ -46,6 +47,7 @@ def make_driver(
     capacity: int,
     grow: float = 1.5,
     easy_iterations: int = 4,
+    check=None,
 ):
     """Compiled adaptive stepping: ``run(carry, params, t_end, dt_min, dt_max)``.
 
@@ -54,7 +56,13 @@ def make_driver(
     ``dt_min``). The step rules are those of :func:`integrate` (halve on failure, grow by
     ``grow`` after <= ``easy_iterations`` Newton iterations, stay within [dt_min, dt_max]).
     ``observe(state, params) -> pytree`` (jittable, static, hashable) is recorded after
-    every accepted step into a buffer of ``capacity`` rows. Returns (carry, buffer,
+    every accepted step into a buffer of ``capacity`` rows. ``check(previous, new) -> ratio``
+    (jittable, static, hashable; optional) gets the records of the last accepted state and
+    of a converged step and returns the step's error estimate over its tolerance: a step
+    with a ratio above 1 is cut like a failed one (status STEP_ERROR), and the step only
+    grows when the ratio leaves room for it (``ratio * grow**3 <= 1``, a local error of
+    third order), so an estimate built from the records (the step's energy balance, say)
+    controls the step size. Returns (carry, buffer,
     n_recorded, failed). No host round trip per step: on a CPU this removes the dispatch
     and the synchronisation of two programs per step, and it is the form that runs on a GPU.
     """
@@ -69,19 +77,24 @@ def make_driver(
         eps = 1e-12 * jnp.maximum(1.0, jnp.abs(t_end))
 
         def cond(c):
-            carry, _, k, failed = c
+            carry, _, k, failed, _ = c
             return (carry.state.t < t_end - eps) & (k < capacity) & ~failed
 
         def body(c):
-            carry, buf, k, _ = c
+            carry, buf, k, _, last = c
             h = jnp.minimum(carry.dt, t_end - carry.state.t)
             new, info = step(carry.state, params, h)
-            good = info.status == SUCCESS
             rec = observe(new, params)
+            easy = info.iterations <= easy_iterations
+            if check is not None:
+                ratio = check(last, rec)
+                refused = (info.status == SUCCESS) & ~(ratio <= 1.0)
+                info = dataclasses.replace(info, status=jnp.where(refused, STEP_ERROR, info.status))
+                easy = easy & (ratio * grow**3 <= 1.0)
+            good = info.status == SUCCESS
+            last = jax.tree.map(lambda r, o: jnp.where(good, r, o), rec, last)
             buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
-            grown = jnp.where(
-                info.iterations <= easy_iterations, jnp.minimum(carry.dt * grow, dt_max), carry.dt
-            )
+            grown = jnp.where(easy, jnp.minimum(carry.dt * grow, dt_max), carry.dt)
             dt = jnp.where(good, grown, 0.5 * h)
             failed = ~good & (0.5 * h < dt_min)
             cause = info.status
@@ -95,10 +108,10 @@ def make_driver(
                 info=info,
                 cause=cause,
             )
-            return nxt, buf, k + good, failed
+            return nxt, buf, k + good, failed, last
 
-        carry, buf, k, failed = jax.lax.while_loop(
-            cond, body, (carry, buf, jnp.asarray(0), jnp.asarray(False))
+        carry, buf, k, failed, _ = jax.lax.while_loop(
+            cond, body, (carry, buf, jnp.asarray(0), jnp.asarray(False), proto)
         )
         return carry, buf, k, failed
 
@@ -114,6 +127,7 @@ def make_host_driver(
     capacity: int,
     grow: float = 1.5,
     easy_iterations: int = 4,
+    check=None,
 ):
     """:func:`make_driver` with the loop on the host: same arguments, same step rules, same
     results (``run(carry, params, t_end, dt_min, dt_max) -> (carry, buffer, n_recorded,
@@ -128,6 +142,7 @@ def make_host_driver(
     """
     step = make_step(topo, terms, integrator)
     obs = jax.jit(observe)
+    accept = None if check is None else jax.jit(check)
 
     def run(carry, params, t_end, dt_min, dt_max):
         t_end, dt_min, dt_max = float(t_end), float(dt_min), float(dt_max)
@@ -138,19 +153,30 @@ def make_host_driver(
             int(x) for x in (carry.accepted, carry.rejected, carry.iterations)
         )
         info, cause = carry.info, carry.cause
+        last = obs(state, params) if accept is not None else None
         while float(state.t) < t_end - eps and len(rows) < capacity and not failed:
             h = min(dt, t_end - float(state.t))
             new, info = step(state, params, jnp.asarray(h))
-            status = int(info.status)
+            status, its = int(info.status), int(info.iterations)
+            rec = None
+            easy = its <= easy_iterations
+            if accept is not None and status == SUCCESS:
+                rec = obs(new, params)
+                ratio = float(accept(last, rec))
+                if not ratio <= 1.0:
+                    status = STEP_ERROR
+                    info = dataclasses.replace(info, status=jnp.asarray(STEP_ERROR))
+                easy = easy and ratio * grow**3 <= 1.0
             good = status == SUCCESS
-            its = int(info.iterations)
             iterations += its
             cause = status
             if good:
                 state = new
                 accepted += 1
-                rows.append(obs(new, params))
-                dt = min(dt * grow, dt_max) if its <= easy_iterations else dt
+                rec = obs(new, params) if rec is None else rec
+                rows.append(rec)
+                last = rec
+                dt = min(dt * grow, dt_max) if easy else dt
             else:
                 rejected += 1
                 dt = 0.5 * h

@@ -19,6 +19,7 @@ STEP_TOO_SMALL = 3
 SINGULAR = 4
 ROTATION_LIMIT = 5
 PENETRATION = 6
+STEP_ERROR = 7
 
 _TEXT = {
     SUCCESS: "converged",
@@ -28,6 +29,7 @@ _TEXT = {
     SINGULAR: "tangent is singular",
     ROTATION_LIMIT: "increment rotated a node by more than the allowed rotation increment",
     PENETRATION: "converged with a contact penetration beyond the allowed depth",
+    STEP_ERROR: "converged, but the step's error estimate is above its tolerance",
 }
 
 

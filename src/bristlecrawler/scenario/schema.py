@@ -98,6 +98,14 @@ class SolverConfig(_Section):
         description="start of each step's Newton: the residual linearised in the stroke's "
         "increment ('tangent'), or the last converged state ('constant')",
     )
+    energy_tol: float = Field(
+        1e-2,
+        gt=0.0,
+        allow_inf_nan=True,
+        description="largest energy-balance error one step may make, mJ: connector work "
+        "minus the changes of elastic, kinetic and potential energy and of the friction "
+        "and damping dissipation over the step; a step above it is cut (inf: no control)",
+    )
 
 
 class OutputConfig(_Section):
