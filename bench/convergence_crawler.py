@@ -1,0 +1,70 @@
+"""Convergence study of the FE crawler (issue #5): element size and time-step tolerance.
+
+Runs a shipped scenario (default ``paper``) at its own resolution and at the refinements
+the issue asks for: twice the elements per bristle (half the element size), a tenth of
+``dt_max`` and a tenth of the step energy tolerance. Prints one row per run and the change of
+the net advance and of the connector work against the base run; nothing is asserted.
+
+    python bench/convergence_crawler.py [--scenario paper] [--cycles 1]
+                                        [--set section.key=value ...]
+
+Each row is a full simulation (one 20 s cycle of the paper scenario: 3 to 10 minutes on
+the 2-core machine), so this is a study, not a test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenario", default="paper")
+    ap.add_argument("--cycles", type=int, default=1)
+    ap.add_argument("--set", dest="sets", action="append", default=[])
+    a = ap.parse_args()
+
+    from bristlecrawler.crawler.run import RunOptions, simulate_crawler
+    from bristlecrawler.errors import SolverError
+    from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.jobs.simulate import apply_overrides, summarize
+    from bristlecrawler.scenario.load import load_scenario
+
+    enable_compilation_cache()
+    base = apply_overrides(load_scenario(a.scenario), [*a.sets, f"actuation.cycles={a.cycles}"])
+    n, dt, tol = base.bristle.elements, base.solver.dt_max, base.solver.energy_tol
+    variants = [
+        ("base", []),
+        (f"elements {2 * n}", [f"bristle.elements={2 * n}"]),
+        (f"dt_max {dt / 10:g}", [f"solver.dt_max={dt / 10!r}"]),
+        (f"energy_tol {tol / 10:g}", [f"solver.energy_tol={tol / 10!r}"]),
+    ]
+    print(f"scenario {base.name}, {a.cycles} cycle(s): {n} elements per bristle, "
+          f"dt_max {dt:g} s, energy_tol {tol:g} mJ")
+    head = (f"{'run':<18} {'advance mm':>11} {'d adv %':>8} {'work mJ':>8} {'d work %':>9} "
+            f"{'balance':>8} {'steps':>6} {'newton':>7} {'wall s':>7}")
+    print(head)
+    print("-" * len(head))
+    ref = None
+    for label, sets in variants:
+        sc = apply_overrides(base, sets)
+        t0 = time.perf_counter()
+        try:
+            h = simulate_crawler(sc, RunOptions(progress=False))
+        except SolverError as e:
+            print(f"{label:<18} FAILED: {e}")
+            continue
+        wall = time.perf_counter() - t0
+        s = summarize(h, sc)
+        adv, work = s["net_advance_mm"], s["work_mJ"]
+        ref = ref or (adv, work)
+        d_adv = 100 * (adv - ref[0]) / abs(ref[0])
+        d_work = 100 * (work - ref[1]) / abs(ref[1])
+        print(f"{label:<18} {adv:11.4f} {d_adv:+8.3f} {work:8.3f} {d_work:+9.2f} "
+              f"{s['energy_balance_rel_error']:8.2%} {s['steps']:6d} "
+              f"{s['newton_iterations']:7d} {wall:7.0f}")
+
+
+if __name__ == "__main__":
+    main()
