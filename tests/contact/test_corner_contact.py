@@ -264,3 +264,35 @@ def test_a_term_coupling_a_missing_node_is_rejected():
     s.add_term(term, ())
     with pytest.raises(InputError, match="node 7"):
         s.build()
+
+
+@pytest.mark.parametrize("stretch", [1.0, 1.2, 0.85])
+def test_sliding_friction_is_coulomb_on_a_stretched_face(stretch):
+    """A strip pressed 0.1 um into the land edges, stretched by ``stretch`` and slid
+    0.3 mm to the right: every pair slips, and the total friction force is mu times the
+    total normal force whatever the stretch (slip measured in current length; in
+    reference arc length it was mu p_N / stretch). Every material point moves right by at
+    least 0.3 mm, so all pairs slide the same way."""
+    s = fe.Structure()
+    a = s.node(0.0, 0.25 - 1e-4)
+    nodes = s.chain(
+        a, (4.0, 0.25 - 1e-4), 8, fe.TaperedRect(E=1.0, b=1.0, h0=0.5, h1=0.5, rho=1e-9, nu=0.3)
+    )
+    outline, off = beam_outline(nodes, np.full(9, 0.5), (0.0, 1.0))
+    term = FaceCornerContact((outline,), 4)
+    sub = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=0.5)
+    mu = 0.5
+    law = CoulombLaw.for_reference_load(mu, load=1.0)
+    X = np.asarray(s._X)
+    p = FaceCornerContact.params(X, (outline,), [off], sub, law)
+    u0 = jnp.zeros((9, 3))
+    h0 = term.history_at(u0, p)
+    shift = 0.3 + 4.0 * max(0.0, 1.0 - stretch)  # every material point moves right >= 0.3
+    u1 = u0.at[:, 0].set(jnp.asarray((stretch - 1.0) * X[:, 0] + shift))
+    R = np.asarray(term.residual(u1, u0, 0.0, h0, p))
+    fx, fy = R[:, 0].sum(), R[:, 1].sum()
+    assert fy < 0.0  # the corners push the strip up: residual = -force on it
+    assert abs(fx) == pytest.approx(mu * abs(fy), rel=1e-9)
+    h1 = term.commit(u1, u0, 0.0, h0, p)
+    closed = np.asarray(h1.state)[0] > 0
+    assert closed.sum() >= 2 and np.all(np.asarray(h1.state)[0][closed] == 2)  # all slip
