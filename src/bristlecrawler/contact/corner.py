@@ -368,7 +368,7 @@ class FaceCornerContact:
         return C, r.reshape(len(self.faces), self.periods * k)
 
     def _k0(self, u, params):
-        P = _face_points(u, jnp.asarray(self.faces), params)
+        P = self._points(u, params)
         xmin = jnp.min(P[..., 0], axis=1)
         xmax = jnp.max(P[..., 0], axis=1)
         centre = 0.5 * (xmin + xmax)
@@ -377,8 +377,15 @@ class FaceCornerContact:
         first = centre - 0.5 * self.periods * params.period
         return jnp.floor((first - c0) / params.period).astype(jnp.int32)
 
+    def _points(self, u, params):
+        return _face_points(u, jnp.asarray(self.faces), params)
+
     def _gs(self, u, k0, params):
-        P = _face_points(u, jnp.asarray(self.faces), params)
+        return self._gs_at(self._points(u, params), k0, params)
+
+    def _gs_at(self, P, k0, params):
+        """Gap and reference arc coordinate of every (outline, window corner) pair for the
+        outline points ``P`` (F, n + 1, 2)."""
         C, rho = self._window(k0, params)
         pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0))
         return jax.vmap(pair)(P, params.arc, params.side, C, rho)
@@ -403,8 +410,8 @@ class FaceCornerContact:
     def _current(self, u, k0, anchor, params):
         """Gap (mm), current arc position of the closest point and of the stick anchor
         along the outline (mm of *current* length, :func:`current_arc`)."""
-        g, s = self._gs(u, k0, params)
-        P = _face_points(u, jnp.asarray(self.faces), params)
+        P = self._points(u, params)
+        g, s = self._gs_at(P, k0, params)
         to_cur = jax.vmap(current_arc, in_axes=(0, 0, 0))
         return g, to_cur(P, params.arc, s), to_cur(P, params.arc, anchor)
 
@@ -434,7 +441,7 @@ class FaceCornerContact:
         g, s, a = self._current(u, history.k0, history.anchor, params)
         step = return_map(g, s, a, params.law)
         # Back to the anchor's material (reference) arc coordinate.
-        P = _face_points(u, jnp.asarray(self.faces), params)
+        P = self._points(u, params)
         to_ref = jax.vmap(reference_arc, in_axes=(0, 0, 0))
         step = step._replace(anchor=to_ref(P, params.arc, step.anchor))
         # Re-centre the windows; carry over the pairs whose corner stays in the window.
@@ -449,7 +456,7 @@ class FaceCornerContact:
         def carry(a):
             return jnp.take_along_axis(a, oi, axis=1)
 
-        _, s_new = self._gs(u, k0, params)
+        _, s_new = self._gs_at(P, k0, params)
         anchor = jnp.where(kept, carry(step.anchor), s_new)
         # Dissipation is per slot; what leaves the window is added to the face's first slot
         # so that the sum over a face stays cumulative.
