@@ -17,6 +17,7 @@ from bristlecrawler.contact import (
     node_force,
     node_potential,
     node_step,
+    project,
 )
 from bristlecrawler.verification.contact_refs import (
     cantilever_drag,
@@ -62,6 +63,53 @@ def test_node_force_and_tangent_by_autodiff(x, anchor):
     np.testing.assert_allclose(stiff(x, anchor, sub, LAW), fd, rtol=1e-5, atol=1e-3)
     # grad of the incremental potential gives the same force
     np.testing.assert_allclose(pot_grad(x, anchor, sub, LAW), f, rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("corner", ["land edge", "groove foot"])
+@pytest.mark.parametrize("slide", [1e-7, 0.05])
+def test_tangent_on_a_fillet_arc_matches_finite_differences(corner, slide):
+    """The consistent tangent where the closest primitive is a fillet arc: its curvature
+    enters through the second derivatives of the projection (grad s = t / (1 - kappa g)),
+    which :func:`project` takes through the winning primitive alone."""
+    sub = Grooves(width=1.0, depth=0.25, pitch=2.0, fillet_top=0.05, fillet_bottom=0.08)
+    # Groove 0 spans 0 <= x <= 1: the land edge at (0, 0) is convex (solid to its left),
+    # the foot of the wall at (0, -0.25) concave. A point 1 micrometre inside the solid,
+    # on the ray at 45 degrees from the fillet's centre through the arc's middle.
+    centre, radius, convex = {
+        "land edge": (jnp.array([-0.05, -0.05]), 0.05, True),
+        "groove foot": (jnp.array([0.08, -0.17]), 0.08, False),
+    }[corner]
+    d = jnp.array([1.0, 1.0] if convex else [-1.0, -1.0]) / math.sqrt(2.0)
+    x = centre + (radius - 1e-6 if convex else radius + 1e-6) * d
+    pr = project(sub, x)
+    assert float(pr.gap) == pytest.approx(-1e-6, abs=1e-12)
+    np.testing.assert_allclose(pr.normal, d if convex else -d, atol=1e-12)  # on the arc
+    anchor = float(pr.arc_length) + slide  # 1e-7 mm: stick; 0.05 mm: slip
+    _, r = accept(x, anchor, sub, LAW)
+    assert int(r.state) == (STICK if slide < 1e-3 else SLIP)
+    h = 1e-9
+    # the force is -p_N grad g + f_t grad s, with the gradients by finite differences of
+    # the projection's values (on the arc, grad s = t / (1 - kappa g))
+    grads = [
+        np.array(
+            [
+                (getattr(project(sub, x + h * e), k) - getattr(project(sub, x - h * e), k))
+                / (2 * h)
+                for e in jnp.eye(2)
+            ]
+        )
+        for k in ("gap", "arc_length")
+    ]
+    want = -float(r.p_n) * grads[0] + float(r.f_t) * grads[1]
+    np.testing.assert_allclose(force(x, anchor, sub, LAW), want, rtol=1e-6, atol=1e-9)
+    fd = np.stack(
+        [
+            (force(x + h * e, anchor, sub, LAW) - force(x - h * e, anchor, sub, LAW)) / (2 * h)
+            for e in jnp.eye(2)
+        ],
+        axis=1,
+    )
+    np.testing.assert_allclose(stiff(x, anchor, sub, LAW), fd, rtol=1e-5, atol=1e-3)
 
 
 @jax.jit
