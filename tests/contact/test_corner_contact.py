@@ -253,6 +253,33 @@ def test_banded_tangent_keeps_every_coupling_of_the_corner_term():
     assert np.abs(band0 - dense0).max() > 1e-3 * np.abs(dense0).max()
 
 
+def _residual_and_tangent(term, p, u, h):
+    """The corner term's force on the nodes (n_nodes, 3) and its dense Jacobian in u."""
+
+    def f(u):
+        return term.residual(u, jnp.zeros_like(u), 0.0, h, p)
+
+    return np.asarray(jax.jit(f)(u)), np.asarray(jax.jit(jax.jacfwd(f))(u))
+
+
+def test_tangent_through_the_closest_pairs_only_is_exact_while_they_hold_every_contact():
+    """The corner term differentiates only the ``tangent_pairs`` pairs of an outline with
+    the smallest gaps. The residual is always that of every pair; the tangent is the full
+    one while no other pair is closed, and only then."""
+    m, term, u, h = _pressed_strip(FaceCornerContact)
+    p = m.params.extra[0]
+    closed = int(np.sum(np.asarray(term.commit(u, u, 0.0, h, p).p_n) > 0))
+    assert 2 <= closed < 2 * term.periods  # two land edges per period
+    every = dataclasses.replace(term, tangent_pairs=2 * term.periods)
+    res_full, dense_full = _residual_and_tangent(every, p, u, h)
+    scale = np.abs(dense_full).max()
+    for k, exact in ((closed, True), (closed - 1, False)):
+        res, dense = _residual_and_tangent(dataclasses.replace(term, tangent_pairs=k), p, u, h)
+        np.testing.assert_allclose(res, res_full, rtol=1e-12, atol=1e-12)
+        gap = np.abs(dense - dense_full).max()
+        assert (gap <= 1e-9 * scale) if exact else (gap > 1e-3 * scale)
+
+
 def test_a_term_coupling_a_missing_node_is_rejected():
     from bristlecrawler.errors import InputError
 

@@ -301,6 +301,7 @@ class FaceCornerContact:
 
     faces: tuple[tuple[int, ...], ...]
     periods: int
+    tangent_pairs: int = 4
 
     def __post_init__(self) -> None:
         if not self.faces or any(len(f) < 4 for f in self.faces):
@@ -311,6 +312,8 @@ class FaceCornerContact:
             raise InputError("corner contact: an outline must end at its first node")
         if self.periods < 1:
             raise InputError("corner contact: the corner window needs at least one period")
+        if self.tangent_pairs < 1:
+            raise InputError("corner contact: tangent_pairs must be >= 1")
 
     @staticmethod
     def window_periods(span: float, period: float, margin: float) -> int:
@@ -409,18 +412,53 @@ class FaceCornerContact:
 
     def _current(self, u, k0, anchor, params):
         """Gap (mm), current arc position of the closest point and of the stick anchor
-        along the outline (mm of *current* length, :func:`current_arc`)."""
+        along the outline (mm of *current* length, :func:`current_arc`) of every pair."""
+        return self._current_at(u, *self._window(k0, params), anchor, params)
+
+    def _current_at(self, u, C, rho, anchor, params):
+        """:meth:`_current` of any k pairs per outline: corners ``C`` (F, k, 2), radii
+        ``rho`` (F, k), anchors (F, k)."""
         P = self._points(u, params)
-        g, s = self._gs_at(P, k0, params)
+        pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0))
+        g, s = jax.vmap(pair)(P, params.arc, params.side, C, rho)
         to_cur = jax.vmap(current_arc, in_axes=(0, 0, 0))
         return g, to_cur(P, params.arc, s), to_cur(P, params.arc, anchor)
 
-    def residual(self, u, v, t, history, params):
-        (g, s, a), pull = jax.vjp(lambda u: self._current(u, history.k0, history.anchor, params), u)
+    def _force(self, u, C, rho, anchor, params, keep=None):
+        (g, s, a), pull = jax.vjp(lambda u: self._current_at(u, C, rho, anchor, params), u)
         fg, fs = generalized_forces(g, s, a, params.law)
+        if keep is not None:
+            fg, fs = jnp.where(keep, fg, 0.0), jnp.where(keep, fs, 0.0)
         # The penalty energy depends on s - a: the anchor's material point moves with the
         # outline, so it takes -fs.
         return pull((fg, fs, -fs))[0]
+
+    def residual(self, u, v, t, history, params):
+        """Forces of every pair; the derivative (the Newton tangent) is taken through the
+        ``tangent_pairs`` pairs of each outline with the smallest gaps only.
+
+        An open pair (g > 0) has zero force and zero stiffness, and an outline touches a
+        few corners at a time, so the tangent is exact while at most ``tangent_pairs``
+        pairs of an outline are closed; beyond that the tangent lacks the others'
+        stiffness, the residual is still the full one, and Newton converges to the same
+        state, more slowly. Linearising every pair (14 per bristle of the paper crawler)
+        cost 1.6 ms of a 2.3 ms tangent extraction.
+        """
+        C, rho = self._window(history.k0, params)
+        m = C.shape[1]
+        if self.tangent_pairs >= m:
+            return self._force(u, C, rho, history.anchor, params)
+        u0 = jax.lax.stop_gradient(u)
+        g0 = self._current_at(u0, C, rho, history.anchor, params)[0]
+        _, idx = jax.lax.top_k(-g0, self.tangent_pairs)  # (F, k): the closest corners
+
+        def take(x):
+            return jnp.take_along_axis(x, idx.reshape(*idx.shape, *([1] * (x.ndim - 2))), 1)
+
+        chosen = jnp.zeros(g0.shape, bool).at[jnp.arange(g0.shape[0])[:, None], idx].set(True)
+        near = self._force(u, take(C), take(rho), take(history.anchor), params)
+        rest = self._force(u0, C, rho, history.anchor, params, keep=~chosen)
+        return near + jax.lax.stop_gradient(rest)
 
     def penetration(self, history, params):
         """Deepest penetration (mm) of a committed history: p_N / k_N."""
