@@ -39,11 +39,15 @@ def main() -> None:
     if a.cycles is not None:
         sets.append(f"actuation.cycles={a.cycles}")
     sc = apply_overrides(sc, sets)
-    print(f"scenario {sc.name}: {sc.actuation.cycles} cycles of {sc.actuation.period} s, "
-          f"{sc.bristle.elements} elements per bristle, contact {sc.contact.nodes}"
-          f" (surface {sc.contact.surface}), overrides {sets or 'none'}")
-    head = (f"{'run':>4} {'wall s':>8} {'sim s':>7} {'steps':>7} {'newton':>8} "
-            f"{'ms/step':>8} {'ms/iter':>8} {'advance mm':>11} {'work mJ':>9} {'balance':>9}")
+    print(
+        f"scenario {sc.name}: {sc.actuation.cycles} cycles of {sc.actuation.period} s, "
+        f"{sc.bristle.elements} elements per bristle, contact {sc.contact.nodes}"
+        f" (surface {sc.contact.surface}), overrides {sets or 'none'}"
+    )
+    head = (
+        f"{'run':>4} {'wall s':>8} {'sim s':>7} {'steps':>7} {'newton':>8} "
+        f"{'ms/step':>8} {'ms/iter':>8} {'advance mm':>11} {'work mJ':>9} {'balance':>9}"
+    )
     print(head)
     print("-" * len(head))
     walls = []
@@ -62,10 +66,12 @@ def main() -> None:
         st = h.stats
         steps, its = max(st["steps"], 1), max(st["newton_iterations"], 1)
         s = summarize(h, sc)
-        print(f"{r + 1:>4} {wall:8.1f} {h.t[-1]:7.2f} {steps:7d} {its:8d} "
-              f"{1e3 * wall / steps:8.2f} {1e3 * wall / its:8.3f} "
-              f"{s['net_advance_mm']:11.3f} {s['work_mJ']:9.3f} "
-              f"{s['energy_balance_rel_error']:9.2e}")
+        print(
+            f"{r + 1:>4} {wall:8.1f} {h.t[-1]:7.2f} {steps:7d} {its:8d} "
+            f"{1e3 * wall / steps:8.2f} {1e3 * wall / its:8.3f} "
+            f"{s['net_advance_mm']:11.3f} {s['work_mJ']:9.3f} "
+            f"{s['energy_balance_rel_error']:9.2e}"
+        )
         if failed:
             print(f"     FAILED: {failed}")
             break

@@ -81,9 +81,18 @@ def static_case(n_elem: int) -> dict:
     compile_s, solve = compile_timed(solver, *args)
     wall, (q, _, info) = best_of(lambda: solve(*args), 5)
     its = int(info.iterations)
-    return {"model": m, "nodes": nodes, "q": q, "n_red": topo.n_red, "iterations": its,
-            "solve": wall, "per_iter": wall / its, "rel_res": float(info.rel_residual),
-            "status": int(info.status), "compile": compile_s}
+    return {
+        "model": m,
+        "nodes": nodes,
+        "q": q,
+        "n_red": topo.n_red,
+        "iterations": its,
+        "solve": wall,
+        "per_iter": wall / its,
+        "rel_res": float(info.rel_residual),
+        "status": int(info.status),
+        "compile": compile_s,
+    }
 
 
 def dynamic_case(m, q_eq, n_steps: int, repeat: int) -> dict:
@@ -95,10 +104,16 @@ def dynamic_case(m, q_eq, n_steps: int, repeat: int) -> dict:
     compile_s, compiled = compile_timed(run, s0, m.params)
     wall, (final, infos) = best_of(lambda: compiled(s0, m.params), repeat)
     its = np.asarray(infos.iterations)
-    return {"compile": compile_s, "run": wall, "per_step": wall / n_steps,
-            "per_iter": wall / max(int(its.sum()), 1), "mean_iter": float(its.mean()),
-            "max_iter": int(its.max()), "ok": bool(np.all(np.asarray(infos.status) == 0)),
-            "final": final}
+    return {
+        "compile": compile_s,
+        "run": wall,
+        "per_step": wall / n_steps,
+        "per_iter": wall / max(int(its.sum()), 1),
+        "mean_iter": float(its.mean()),
+        "max_iter": int(its.max()),
+        "ok": bool(np.all(np.asarray(infos.status) == 0)),
+        "final": final,
+    }
 
 
 def floor_study(m, q, extra_iterations: int = 8) -> dict:
@@ -116,8 +131,9 @@ def floor_study(m, q, extra_iterations: int = 8) -> dict:
         dq = -banded.solve(J, R, topo)
         rows = (jnp.abs(J.lower) + jnp.abs(J.diag) + jnp.abs(J.upper)).sum(-1).ravel()
         rows = rows + jnp.abs(J.B).sum(-1)
-        K_inf = jnp.maximum(rows.max(), (jnp.abs(J.C).sum(-1) + jnp.abs(J.D).sum(-1)).max(
-            initial=0.0))
+        K_inf = jnp.maximum(
+            rows.max(), (jnp.abs(J.C).sum(-1) + jnp.abs(J.D).sum(-1)).max(initial=0.0)
+        )
         return q + dq, jnp.linalg.norm(R) / F, F, K_inf, jnp.linalg.norm(dq)
 
     _, step = compile_timed(iteration, q)
@@ -129,8 +145,14 @@ def floor_study(m, q, extra_iterations: int = 8) -> dict:
         steps.append(float(dq))
         q = q_next
     q_inf = float(jnp.max(jnp.abs(q)))
-    return {"rel": rel[1:], "dq": steps[1:], "K_inf": float(K_inf), "q_inf": q_inf,
-            "F": float(F), "estimate": EPS * float(K_inf) * q_inf / float(F)}
+    return {
+        "rel": rel[1:],
+        "dq": steps[1:],
+        "K_inf": float(K_inf),
+        "q_inf": q_inf,
+        "F": float(F),
+        "estimate": EPS * float(K_inf) * q_inf / float(F),
+    }
 
 
 def _cache_entries(folder) -> int:
@@ -146,15 +168,21 @@ def main() -> None:
     args = ap.parse_args()
     folder = None if args.no_cache else enable_compilation_cache(args.cache)
     at_start = _cache_entries(folder)
-    print(f"jax {jax.__version__} on {jax.devices()[0].platform}, {os.cpu_count()} CPU "
-          f"cores, load average {os.getloadavg()[0]:.1f}; XLA_FLAGS="
-          f"{os.environ.get('XLA_FLAGS', '')!r}")
+    print(
+        f"jax {jax.__version__} on {jax.devices()[0].platform}, {os.cpu_count()} CPU "
+        f"cores, load average {os.getloadavg()[0]:.1f}; XLA_FLAGS="
+        f"{os.environ.get('XLA_FLAGS', '')!r}"
+    )
     print(f"persistent compilation cache: {folder or 'off'} ({at_start} entries at start)")
-    print(f"HHT alpha = -0.05, dt = {DT:g} s; statics to |R| <= {RTOL:g} F; "
-          f"us/el: microseconds per element per Newton iteration\n")
-    head = (f"{'elements':>8} {'DOFs':>5} | {'static its':>10} {'ms/iter':>8} {'us/el':>6} "
-            f"{'|R|/F':>8} | {'HHT ms/step':>11} {'its/step':>8} {'ms/iter':>8} "
-            f"{'us/el':>6} | {'compile s: static':>17} {'HHT':>5}")
+    print(
+        f"HHT alpha = -0.05, dt = {DT:g} s; statics to |R| <= {RTOL:g} F; "
+        f"us/el: microseconds per element per Newton iteration\n"
+    )
+    head = (
+        f"{'elements':>8} {'DOFs':>5} | {'static its':>10} {'ms/iter':>8} {'us/el':>6} "
+        f"{'|R|/F':>8} | {'HHT ms/step':>11} {'its/step':>8} {'ms/iter':>8} "
+        f"{'us/el':>6} | {'compile s: static':>17} {'HHT':>5}"
+    )
     print(head)
     print("-" * len(head))
     compile_total = 0.0
@@ -165,41 +193,58 @@ def main() -> None:
         compile_total += st["compile"] + dy["compile"]
         last = (n, st)
         flag = "" if st["status"] == 0 and dy["ok"] else "  (FAILED)"
-        print(f"{n:>8} {st['n_red']:>5} | {st['iterations']:>10} "
-              f"{1e3 * st['per_iter']:>8.2f} {1e6 * st['per_iter'] / n:>6.1f} "
-              f"{st['rel_res']:>8.1e} | {1e3 * dy['per_step']:>11.2f} "
-              f"{dy['mean_iter']:>8.2f} {1e3 * dy['per_iter']:>8.2f} "
-              f"{1e6 * dy['per_iter'] / n:>6.1f} | {st['compile']:>17.1f} "
-              f"{dy['compile']:>5.1f}{flag}")
+        print(
+            f"{n:>8} {st['n_red']:>5} | {st['iterations']:>10} "
+            f"{1e3 * st['per_iter']:>8.2f} {1e6 * st['per_iter'] / n:>6.1f} "
+            f"{st['rel_res']:>8.1e} | {1e3 * dy['per_step']:>11.2f} "
+            f"{dy['mean_iter']:>8.2f} {1e3 * dy['per_iter']:>8.2f} "
+            f"{1e6 * dy['per_iter'] / n:>6.1f} | {st['compile']:>17.1f} "
+            f"{dy['compile']:>5.1f}{flag}"
+        )
 
     n, st = last
     m = st["model"]
-    print(f"\n{n}-element static solve: |R|/F = {st['rel_res']:.1e} after "
-          f"{st['iterations']} Newton iterations ({1e3 * st['solve']:.1f} ms), stopped by "
-          + ("the residual test |R| <= 1e-10 F" if st["rel_res"] <= RTOL else
-             "the round-off step test (last correction below xtol), not the residual test"))
+    print(
+        f"\n{n}-element static solve: |R|/F = {st['rel_res']:.1e} after "
+        f"{st['iterations']} Newton iterations ({1e3 * st['solve']:.1f} ms), stopped by "
+        + (
+            "the residual test |R| <= 1e-10 F"
+            if st["rel_res"] <= RTOL
+            else "the round-off step test (last correction below xtol), not the residual test"
+        )
+    )
     fl = floor_study(m, st["q"])
-    print(f"  continued {len(fl['rel'])} more iterations with no stopping test: |R|/F "
-          f"between {min(fl['rel']):.1e} and {max(fl['rel']):.1e}, corrections "
-          f"|dq| <= {max(fl['dq']):.1e} mm (round-off)")
-    print(f"  round-off floor estimate eps |K|_inf |q|_inf / F = {EPS:.1e} x "
-          f"{fl['K_inf']:.2e} N/mm x {fl['q_inf']:.2e} mm / {fl['F']:.3f} N = "
-          f"{fl['estimate']:.1e}")
+    print(
+        f"  continued {len(fl['rel'])} more iterations with no stopping test: |R|/F "
+        f"between {min(fl['rel']):.1e} and {max(fl['rel']):.1e}, corrections "
+        f"|dq| <= {max(fl['dq']):.1e} mm (round-off)"
+    )
+    print(
+        f"  round-off floor estimate eps |K|_inf |q|_inf / F = {EPS:.1e} x "
+        f"{fl['K_inf']:.2e} N/mm x {fl['q_inf']:.2e} mm / {fl['F']:.3f} N = "
+        f"{fl['estimate']:.1e}"
+    )
 
     dy = dynamic_case(m, st["q"], args.steps, 1)
     compile_total += dy["compile"]
     right = st["nodes"]["right"]  # the actuated body end
     t_end = float(dy["final"].t)
     s_end = 20.0 * math.sin(math.pi * t_end / 20.0) ** 2
-    print(f"\n{args.steps} HHT steps ({n} elements, one compiled lax.scan, dt = {DT:g} s): "
-          f"{dy['run']:.1f} s wall, {1e3 * dy['per_step']:.2f} ms/step, Newton iterations "
-          f"mean {dy['mean_iter']:.2f} max {dy['max_iter']}, all converged: {dy['ok']}; "
-          f"compile {dy['compile']:.1f} s")
-    print(f"  t_end = {t_end:.3f} s, actuated end x displacement "
-          f"{float(dy['final'].u[right, 0]):.6f} mm (prescribed -s(t) = {-s_end:.6f} mm)")
-    print(f"\ncompile total {compile_total:.1f} s; cache entries now "
-          f"{_cache_entries(folder)} (a second process run loads them); load average "
-          f"{os.getloadavg()[0]:.1f}")
+    print(
+        f"\n{args.steps} HHT steps ({n} elements, one compiled lax.scan, dt = {DT:g} s): "
+        f"{dy['run']:.1f} s wall, {1e3 * dy['per_step']:.2f} ms/step, Newton iterations "
+        f"mean {dy['mean_iter']:.2f} max {dy['max_iter']}, all converged: {dy['ok']}; "
+        f"compile {dy['compile']:.1f} s"
+    )
+    print(
+        f"  t_end = {t_end:.3f} s, actuated end x displacement "
+        f"{float(dy['final'].u[right, 0]):.6f} mm (prescribed -s(t) = {-s_end:.6f} mm)"
+    )
+    print(
+        f"\ncompile total {compile_total:.1f} s; cache entries now "
+        f"{_cache_entries(folder)} (a second process run loads them); load average "
+        f"{os.getloadavg()[0]:.1f}"
+    )
 
 
 if __name__ == "__main__":

@@ -41,10 +41,14 @@ def main() -> None:
         (f"dt_max {dt / 10:g}", [f"solver.dt_max={dt / 10!r}"]),
         (f"energy_tol {tol / 10:g}", [f"solver.energy_tol={tol / 10!r}"]),
     ]
-    print(f"scenario {base.name}, {a.cycles} cycle(s): {n} elements per bristle, "
-          f"dt_max {dt:g} s, energy_tol {tol:g} mJ")
-    head = (f"{'run':<18} {'advance mm':>11} {'d adv mm':>9} {'work mJ':>8} {'d work %':>9} "
-            f"{'balance':>8} {'steps':>6} {'newton':>7} {'wall s':>7}")
+    print(
+        f"scenario {base.name}, {a.cycles} cycle(s): {n} elements per bristle, "
+        f"dt_max {dt:g} s, energy_tol {tol:g} mJ"
+    )
+    head = (
+        f"{'run':<18} {'advance mm':>11} {'d adv mm':>9} {'work mJ':>8} {'d work %':>9} "
+        f"{'balance':>8} {'steps':>6} {'newton':>7} {'wall s':>7}"
+    )
     print(head)
     print("-" * len(head))
     ref = None
@@ -62,9 +66,11 @@ def main() -> None:
         ref = ref or (adv, work)
         d_adv = adv - ref[0]
         d_work = 100 * (work - ref[1]) / abs(ref[1])
-        print(f"{label:<18} {adv:11.4f} {d_adv:+9.4f} {work:8.3f} {d_work:+9.2f} "
-              f"{s['energy_balance_rel_error']:8.2%} {s['steps']:6d} "
-              f"{s['newton_iterations']:7d} {wall:7.0f}")
+        print(
+            f"{label:<18} {adv:11.4f} {d_adv:+9.4f} {work:8.3f} {d_work:+9.2f} "
+            f"{s['energy_balance_rel_error']:8.2%} {s['steps']:6d} "
+            f"{s['newton_iterations']:7d} {wall:7.0f}"
+        )
 
 
 if __name__ == "__main__":

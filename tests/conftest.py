@@ -7,6 +7,12 @@ from hypothesis import HealthCheck, settings
 
 from bristlecrawler.cli.app import main
 
+# The CLI commands enable JAX's persistent compilation cache, for the rest of the pytest
+# process too. Keep the suite off the user's cache: a run of the suite once crashed
+# (segmentation fault) deserialising an entry of it while other processes were writing
+# to it, and a fresh CI machine gains nothing from it. BRISTLECRAWLER_NO_JAX_CACHE=0 opts in.
+os.environ.setdefault("BRISTLECRAWLER_NO_JAX_CACHE", "1")
+
 settings.register_profile(
     "ci", max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow]
 )
@@ -28,3 +34,14 @@ def run_cli(capsys):
         return code, out.out, out.err
 
     return run
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _free_compiled_programs():
+    """Drop JAX's compiled programs after each test module. The suite compiles hundreds of
+    programs (the FE crawler's step is 8 MB of machine code); kept for the whole process
+    they grew its memory until XLA aborted in a later compile (twice, in tests/fe)."""
+    yield
+    import jax
+
+    jax.clear_caches()

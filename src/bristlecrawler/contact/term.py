@@ -119,17 +119,38 @@ class ContactHistory:
     f_t: Any
 
 
+def profile_top(substrate) -> jax.Array:
+    """Height (mm) of the highest point of a substrate's surface: the largest vertex height
+    of its profile (a fillet only lowers a convex corner, and a concave fillet lies between
+    its two segments)."""
+    return jnp.max(substrate.profile().vertices[..., 1], axis=-1)
+
+
 @dataclasses.dataclass(frozen=True)
 class SubstrateContact:
     """Contact of points attached to the FE nodes ``nodes`` (static, hashable) with a rigid
     substrate. A node may carry several points (listed once per point, with different
-    offsets in :class:`ContactParams`)."""
+    offsets in :class:`ContactParams`).
+
+    ``active`` (static, optional): a broad phase with a fixed capacity. Each residual
+    evaluates the projection and the return mapping for the ``active`` points that reach
+    lowest (y minus the contact radius) only; the others get no force. That is exact
+    while at most ``active`` points reach below the top of the substrate's profile (every
+    other point then has a positive gap, so no force): :meth:`excess` counts the points
+    beyond, and the solvers reject a converged state where it is not zero with status
+    CONTACT_OVERFLOW, a failure that names the parameter to raise (a smaller step cannot
+    cure it). The saving is the work on points that cannot touch (a bristle's points away
+    from its tip). Default None: every point, always.
+    """
 
     nodes: tuple[int, ...]
+    active: int | None = None
 
     def __post_init__(self) -> None:
         if len(self.nodes) == 0:
             raise InputError("contact term needs at least one node")
+        if self.active is not None and not (isinstance(self.active, int) and self.active >= 1):
+            raise InputError(f"contact 'active' must be a whole number >= 1, got {self.active!r}")
 
     @staticmethod
     def params(
@@ -154,10 +175,37 @@ class SubstrateContact:
 
     def residual(self, u, v, t, history, params):
         x, pull = jax.vjp(lambda u: self._x(u, params), u)
-        f = jax.vmap(point_force, in_axes=(0, 0, None, None, 0))(
-            x, history.anchor, params.substrate, params.law, params.radius
-        )
-        return pull(f)[0]
+        return pull(self.point_forces(x, history.anchor, params))[0]
+
+    def point_forces(self, x, anchor, params):
+        """Contact forces (N, (k, 2)) on the points at ``x`` (mm, (k, 2)) with stick anchors
+        ``anchor``; with ``active``, through the broad phase (the same forces while
+        :meth:`excess` is 0)."""
+
+        def forces(x, anchor, radius):
+            return jax.vmap(point_force, in_axes=(0, 0, None, None, 0))(
+                x, anchor, params.substrate, params.law, radius
+            )
+
+        k = x.shape[0]
+        if self.active is None or self.active >= k:
+            return forces(x, anchor, params.radius)
+        reach = jax.lax.stop_gradient(x[:, 1] - params.radius)
+        _, sel = jax.lax.top_k(-reach, self.active)
+        # Gather and scatter by a one-hot matrix (active, k): cheap at these sizes, and it
+        # keeps gather/scatter out of the linearised program.
+        P = (sel[:, None] == jnp.arange(k)[None, :]).astype(x.dtype)
+        return P.T @ forces(P @ x, P @ anchor, P @ params.radius)
+
+    def excess(self, u, params):
+        """How many more points reach below the top of the profile than the broad phase
+        evaluates (int; 0 when it is exact, always 0 without ``active``), at the full
+        nodal displacements ``u``."""
+        if self.active is None or self.active >= len(self.nodes):
+            return jnp.asarray(0)
+        x = self._x(u, params)
+        below = jnp.sum(x[:, 1] - params.radius < profile_top(params.substrate))
+        return jnp.maximum(below - self.active, 0)
 
     def penetration(self, history, params):
         """Deepest penetration (mm) of a committed history: p_N / k_N."""

@@ -168,7 +168,7 @@ def build_crawler(
     ) * sc.gravity
     law = CoulombLaw.for_reference_load(sc.substrate.mu, load=penalty_load or weight / 2)
     X = np.asarray(s._X)  # reference coordinates (builder internal, read-only use)
-    term = SubstrateContact(tuple(int(n) for n in cnodes))
+    term = SubstrateContact(tuple(int(n) for n in cnodes), active=sc.contact.active_points)
     s.add_term(
         term,
         SubstrateContact.params(

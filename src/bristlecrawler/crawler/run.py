@@ -145,7 +145,7 @@ def _observer(cm: CrawlerModel):
 def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> CrawlerHistory:
     """Run the scenario and return its :class:`CrawlerHistory` (raises SolverError on failure)."""
     from bristlecrawler import fe
-    from bristlecrawler.fe.status import STEP_ERROR, describe
+    from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe
     from bristlecrawler.viz.progress import sim_progress
 
     opt = options or RunOptions()
@@ -188,6 +188,9 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             if bool(failed):
                 info = carry.info
                 msg = fe.message(info, f"{where}, step {len(records)}")
+                if int(carry.cause) == CONTACT_OVERFLOW:
+                    k = sc.contact.active_points
+                    raise _Failed(msg + f" (contact.active_points = {k})", carry)
                 cause = describe(int(carry.cause))
                 if int(carry.cause) == STEP_ERROR:
                     cause += ": its energy error exceeds solver.energy_tol = "

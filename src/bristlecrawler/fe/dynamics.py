@@ -33,6 +33,7 @@ from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.newton import newton
 from bristlecrawler.fe.status import (
+    CONTACT_OVERFLOW,
     PENETRATION,
     ROTATION_LIMIT,
     STEP_TOO_SMALL,
@@ -40,7 +41,12 @@ from bristlecrawler.fe.status import (
     StepInfo,
     message,
 )
-from bristlecrawler.fe.terms import commit_all, init_histories, max_penetration
+from bristlecrawler.fe.terms import (
+    broad_phase_excess,
+    commit_all,
+    init_histories,
+    max_penetration,
+)
 
 
 @pytree()
@@ -235,6 +241,9 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             # Newton's iterates near the contact surface.
             too_deep = max_penetration(terms, h1, params) > ig.max_penetration
             status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
+        excess = broad_phase_excess(terms, u1, params)
+        if excess is not None:
+            status = jnp.where((status == SUCCESS) & (excess > 0), CONTACT_OVERFLOW, status)
         new = DynState(t1, q1, u1, v1, a1, h1)
         good = status == SUCCESS
         out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
@@ -310,7 +319,8 @@ def integrate(
 ) -> DynResult:
     """Adaptive time stepping from ``state`` to ``t_end`` (s), starting with step ``dt`` (s).
 
-    A step that fails (Newton limit, NaN) is retried with dt/2; after a step that converged
+    A step that fails (Newton limit, NaN) is retried with dt/2 (but a CONTACT_OVERFLOW, which
+    a smaller step cannot cure, ends the run); after a step that converged
     in <= ``easy_iterations`` the step grows by ``grow``; dt stays in [dt_min, dt_max]
     (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded after every
     accepted step. Returns :class:`DynResult`; raises SolverError if ``throw`` and dt falls
@@ -340,6 +350,11 @@ def integrate(
             continue
         rejected += 1
         h = 0.5 * h_try
+        if int(info.status) == CONTACT_OVERFLOW:
+            msg = message(info, f"dynamics, step {len(times) + 1}")
+            if throw:
+                raise SolverError(msg)
+            return DynResult(state, np.asarray(times), observed, infos, False, msg, rejected)
         if h < dt_min:
             where = f"dynamics, step {len(times) + 1}"
             msg = message(info, where) + f"; dt cut below dt_min = {dt_min:g} s"

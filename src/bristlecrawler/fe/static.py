@@ -20,6 +20,7 @@ from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.newton import newton
 from bristlecrawler.fe.status import (
+    CONTACT_OVERFLOW,
     ROTATION_LIMIT,
     STEP_TOO_SMALL,
     SUCCESS,
@@ -27,7 +28,7 @@ from bristlecrawler.fe.status import (
     check,
     message,
 )
-from bristlecrawler.fe.terms import commit_all, init_histories
+from bristlecrawler.fe.terms import broad_phase_excess, commit_all, init_histories
 
 
 @pytree()
@@ -97,6 +98,9 @@ def make_static_solver(topo, terms, rtol, atol, max_iter):
             res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter, xscale=jnp.linalg.norm(params.X)
         )
         u = assembly.expand(q, t, lam, params, topo)
+        excess = broad_phase_excess(terms, u, params)
+        if excess is not None:
+            status = jnp.where((status == SUCCESS) & (excess > 0), CONTACT_OVERFLOW, status)
         info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
         return q, u, info
 
@@ -152,6 +156,16 @@ def solve_static(
             info = dataclasses.replace(info, status=jnp.asarray(ROTATION_LIMIT))
             infos[-1] = info
         dlam *= 0.5
+        if int(info.status) == CONTACT_OVERFLOW:  # a smaller increment cannot cure it
+            msg = message(info, f"static solve, increment {len(infos)}")
+            if throw:
+                from bristlecrawler.errors import SolverError
+
+                raise SolverError(msg)
+            u = assembly.expand(q, t, lam, params, topo)
+            return StaticResult(
+                StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(lam)), infos, False, msg
+            )
         if dlam < options.min_increment:
             where = f"static solve, increment {len(infos)}"
             msg = message(info, where) + f"; increment cut below {options.min_increment:g}"

@@ -20,6 +20,7 @@ SINGULAR = 4
 ROTATION_LIMIT = 5
 PENETRATION = 6
 STEP_ERROR = 7
+CONTACT_OVERFLOW = 8
 
 _TEXT = {
     SUCCESS: "converged",
@@ -30,6 +31,11 @@ _TEXT = {
     ROTATION_LIMIT: "increment rotated a node by more than the allowed rotation increment",
     PENETRATION: "converged with a contact penetration beyond the allowed depth",
     STEP_ERROR: "converged, but the step's error estimate is above its tolerance",
+    CONTACT_OVERFLOW: (
+        "converged with more contact points reaching below the substrate's top than the "
+        "contact broad phase evaluates (raise the contact term's 'active' count; a smaller "
+        "step does not help)"
+    ),
 }
 
 

@@ -18,7 +18,10 @@ batched:
 
 A term may also define ``penetration(history, params) -> float``: the deepest penetration
 (mm) of a committed history; the dynamic step rejects a converged step where it exceeds
-``Integrator.max_penetration`` (:func:`max_penetration`).
+``Integrator.max_penetration`` (:func:`max_penetration`). A term with a fixed-capacity
+broad phase (a non-None ``active`` attribute) defines ``excess(u, params) -> int``, the
+count beyond its capacity at a state; the solvers turn a converged state with a non-zero
+excess into the fatal status CONTACT_OVERFLOW (:func:`broad_phase_excess`).
 
 Tangents come from autodiff of ``residual``. Sparsity contract: the contribution at node i
 may depend only on the DOFs of node i (or of nodes rigidly linked to it), unless the term
@@ -76,3 +79,17 @@ def max_penetration(terms, history, params):
         if hasattr(term, "penetration")
     ]
     return jnp.max(jnp.stack(depths)) if depths else jnp.asarray(0.0)
+
+
+def broad_phase_excess(terms, u, params):
+    """Points beyond the capacity of the terms' broad phases at the full displacements
+    ``u`` (a jnp int, 0 when every broad phase is exact), or None (static) when no term
+    has one, so a model without a broad phase compiles no check."""
+    import jax.numpy as jnp
+
+    counts = [
+        term.excess(u, p)
+        for term, p in zip(terms, params.extra, strict=True)
+        if getattr(term, "active", None) is not None
+    ]
+    return jnp.sum(jnp.stack(counts)) if counts else None

@@ -147,6 +147,14 @@ class ContactConfig(_Section):
         description="load (N) at which penetration stays below 1e-3 mm and stick drift "
         "below 1e-4 mm; default: the weight on one bristle",
     )
+    active_points: int | None = Field(
+        16,
+        ge=1,
+        description="broad phase: contact points evaluated per Newton iteration, the ones "
+        "reaching lowest (the corner term is separate). Exact while at most this many "
+        "points reach below the substrate's top (the paper run has up to 7); a run where "
+        "more do stops with an error naming this parameter. null: every point",
+    )
     max_penetration: float = Field(
         0.025,
         gt=0.0,
