@@ -42,8 +42,8 @@ from bristlecrawler.fe.status import (
     message,
 )
 from bristlecrawler.fe.terms import (
-    broad_phase_excess,
     commit_all,
+    flag_overflow,
     init_histories,
     max_penetration,
 )
@@ -241,9 +241,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             # Newton's iterates near the contact surface.
             too_deep = max_penetration(terms, h1, params) > ig.max_penetration
             status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
-        excess = broad_phase_excess(terms, u1, params)
-        if excess is not None:
-            status = jnp.where((status == SUCCESS) & (excess > 0), CONTACT_OVERFLOW, status)
+        status = flag_overflow(terms, u1, params, status)
         new = DynState(t1, q1, u1, v1, a1, h1)
         good = status == SUCCESS
         out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)

@@ -28,7 +28,7 @@ from bristlecrawler.fe.status import (
     check,
     message,
 )
-from bristlecrawler.fe.terms import broad_phase_excess, commit_all, init_histories
+from bristlecrawler.fe.terms import commit_all, flag_overflow, init_histories
 
 
 @pytree()
@@ -98,9 +98,7 @@ def make_static_solver(topo, terms, rtol, atol, max_iter):
             res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter, xscale=jnp.linalg.norm(params.X)
         )
         u = assembly.expand(q, t, lam, params, topo)
-        excess = broad_phase_excess(terms, u, params)
-        if excess is not None:
-            status = jnp.where((status == SUCCESS) & (excess > 0), CONTACT_OVERFLOW, status)
+        status = flag_overflow(terms, u, params, status)
         info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
         return q, u, info
 

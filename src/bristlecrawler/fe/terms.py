@@ -93,3 +93,16 @@ def broad_phase_excess(terms, u, params):
         if getattr(term, "active", None) is not None
     ]
     return jnp.sum(jnp.stack(counts)) if counts else None
+
+
+def flag_overflow(terms, u, params, status):
+    """``status`` with a converged state turned into CONTACT_OVERFLOW where a broad phase
+    is exceeded at ``u`` (unchanged, and no check compiled, when no term has one)."""
+    import jax.numpy as jnp
+
+    from bristlecrawler.fe.status import CONTACT_OVERFLOW, SUCCESS
+
+    excess = broad_phase_excess(terms, u, params)
+    if excess is None:
+        return status
+    return jnp.where((status == SUCCESS) & (excess > 0), CONTACT_OVERFLOW, status)
