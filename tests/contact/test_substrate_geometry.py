@@ -390,3 +390,77 @@ def test_a_sharp_edge_flips_the_normal_on_its_bisector():
     assert turn.max() == pytest.approx(90.0, abs=1e-6)
     up = project_one(G, jnp.array([-0.004, -0.002]))  # 4 um into the wall, 2 um below the top
     np.testing.assert_allclose(np.asarray(up.normal), [0.0, 1.0], atol=1e-12)
+
+
+# --- the ranking's cheap distances and the closed-form arc-length gradient -------------------
+
+
+@jax.jit
+def _full_ranking(gr, p):
+    """Distances and clamp flags of every primitive of the copies -1, 0, +1, each evaluated
+    in full by _segments / _arcs (angles and all): the reference for _distances."""
+    from bristlecrawler.contact import profile as P
+
+    c = P._chain(gr.profile())
+    m = jnp.floor((p[0] - c.x0) / c.period)
+    dist, clamped = [], []
+    for k in (-1.0, 0.0, 1.0):
+        pk = p - jnp.array([(m + k) * c.period, 0.0])
+        for part in (P._segments(c, pk), P._arcs(c, pk)):
+            dist.append(part[0])
+            clamped.append(part[1])
+    return jnp.concatenate(dist), jnp.concatenate(clamped), P._distances(c, p, m)
+
+
+@given(gr=_groove_params(), x=st.floats(-5, 5), y=st.floats(-2, 1))
+def test_ranking_distances_equal_the_full_evaluation(gr, x, y):
+    """The winner is chosen from distances computed by a cone test (no angles): they equal
+    those of the full evaluation of every segment and arc, and so do the clamp flags away
+    from a cone's boundary (where they only move a rank by the 1e-9 mm clamp bias)."""
+    dist, clamped, (fast, fast_clamped) = _full_ranking(gr, jnp.array([x, y]))
+    np.testing.assert_allclose(fast, dist, rtol=0, atol=1e-12)
+    differ = np.asarray(fast_clamped != clamped)
+    # a differing flag is a round-off tie on a cone's boundary: the clamped and unclamped
+    # closest points coincide there, so both evaluations give the same distance
+    assert not differ.any() or np.allclose(np.asarray(fast)[differ], np.asarray(dist)[differ])
+
+
+def _arc_length_gradient_cases():
+    saw = st.tuples(st.floats(0.5, 3.0), st.floats(0.1, 1.0), st.floats(0.05, 0.95)).map(
+        lambda t: Sawtooth(pitch=t[0], height=t[1], rise_fraction=t[2])
+    )
+    return st.one_of(_groove_params(), saw)
+
+
+arc_length_one = jax.jit(lambda sub, p: project(sub, p).arc_length)
+arc_length_grad = jax.jit(jax.grad(lambda sub, p: project(sub, p).arc_length, argnums=1))
+
+
+@given(sub=_arc_length_gradient_cases(), x=st.floats(-5, 5), y=st.floats(-2, 1))
+def test_arc_gradient_is_the_derivative_of_the_arc_length(sub, x, y):
+    """Projection.arc_gradient (closed form) equals autodiff of the arc length, and central
+    differences where the arc length is smooth (forward and backward differences agree)."""
+    p = jnp.array([x, y])
+    pr = project_one(sub, p)
+    np.testing.assert_allclose(pr.arc_gradient, arc_length_grad(sub, p), rtol=1e-12, atol=1e-12)
+    h = 1e-6
+    s0 = float(arc_length_one(sub, p))
+    fwd = np.array([float(arc_length_one(sub, p + h * e)) - s0 for e in jnp.eye(2)]) / h
+    bwd = np.array([s0 - float(arc_length_one(sub, p - h * e)) for e in jnp.eye(2)]) / h
+    if np.allclose(fwd, bwd, atol=1e-4):
+        np.testing.assert_allclose(pr.arc_gradient, 0.5 * (fwd + bwd), atol=1e-5)
+
+
+def test_arc_gradient_on_a_fillet_is_tangent_times_radius_over_distance():
+    """Above a convex land fillet of radius r, a point at distance rho from its centre moves
+    its closest point by r / rho of its own tangential motion."""
+    r = 0.2
+    gr = Grooves(width=1.0, depth=0.5, pitch=2.0, fillet_top=r)
+    # the land corner at x = 1 (right wall of groove 0): fillet centre (1 + r, -r)
+    centre = np.array([1.0 + r, -r])
+    direction = np.array([-1.0, 1.0]) / math.sqrt(2.0)
+    for rho in (0.25, 0.4, 0.6):
+        pr = project_one(gr, jnp.array(centre + rho * direction))
+        assert float(pr.gap) == pytest.approx(rho - r, abs=1e-12)
+        assert float(jnp.linalg.norm(pr.arc_gradient)) == pytest.approx(r / rho, rel=1e-12)
+        assert float(jnp.dot(pr.arc_gradient, pr.tangent)) == pytest.approx(r / rho, rel=1e-12)

@@ -52,10 +52,9 @@ def node_force(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0) 
     Exact for the non-associative law, so ``jax.jacfwd`` of it w.r.t. ``x`` is the
     consistent non-symmetric tangent (N/mm).
     """
-    gs = _gs(x, substrate, radius)
-    dgs = jax.jacfwd(_gs)(x, substrate, radius)  # rows: grad g = n, grad s = t / (1 - kappa g)
-    fg, fs = generalized_forces(gs[0], gs[1], anchor, law, lambda_n)
-    return fg * dgs[0] + fs * dgs[1]
+    pr = project(substrate, x)
+    fg, fs = generalized_forces(pr.gap - radius, pr.arc_length, anchor, law, lambda_n)
+    return fg * pr.normal + fs * pr.arc_gradient  # grad g = n, grad s in closed form
 
 
 def node_step(

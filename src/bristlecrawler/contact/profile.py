@@ -40,6 +40,9 @@ _CLAMP_BIAS = 1e-9
 # Candidates within this (relative) distance of the best are a tie, resolved by period order,
 # so that round-off (e.g. after wrapping x into the period) cannot flip the choice.
 _TIE = 1e-11
+# Angular tolerance (rad) of the ranking's cone test: a point this close to the edge of an
+# arc's cone counts as inside it.
+_CONE_TOL = 1e-12
 _TINY = 1e-300
 
 
@@ -53,6 +56,11 @@ class Projection(NamedTuple):
         point: closest point on the surface, mm, (2,).
         arc_length: arc-length coordinate of the closest point along the unrolled profile,
             mm, continuous across periods (0 at the first tangent point of the period).
+        arc_gradient: d arc_length / d p, (2,), dimensionless: the tangent on a segment,
+            +-``tangent r / |p - centre|`` on an arc, 0 in a corner's cone (the closest
+            point stays put). The derivative autodiff gives, in closed form, so a
+            contact force needs no Jacobian of the projection (and its tangent no second
+            derivatives).
     """
 
     gap: jax.Array
@@ -60,6 +68,7 @@ class Projection(NamedTuple):
     tangent: jax.Array
     point: jax.Array
     arc_length: jax.Array
+    arc_gradient: jax.Array
 
 
 @pytree_dataclass
@@ -162,6 +171,10 @@ class _Chain(NamedTuple):
     orient: jax.Array  # (n,) +1 convex (solid inside the circle), -1 concave
     turn: jax.Array  # (n,) +1 counter-clockwise traversal, -1 clockwise, 0 straight
     arc_s0: jax.Array  # (n,) arc length at arc start, mm
+    edge_plus: jax.Array  # (n, 2) unit direction of the arc's cone edge at psi = +half
+    edge_minus: jax.Array  # (n, 2) the edge at psi = -half
+    end_plus: jax.Array  # (n, 2) arc end at psi = +half, mm
+    end_minus: jax.Array  # (n, 2) arc end at psi = -half, mm
     period: jax.Array  # mm
     x0: jax.Array  # mm
     length: jax.Array  # arc length of one period, mm
@@ -193,6 +206,17 @@ def _chain(prof: PeriodicProfile) -> _Chain:
     arc_next = jnp.roll(arc_len, -1)
     seg_s0 = jnp.concatenate([jnp.zeros(1), jnp.cumsum(line_len + arc_next)[:-1]])
     arc_s0 = jnp.concatenate([-arc_len[:1], seg_s0[:-1] + line_len[:-1]])
+    cos_h, sin_h = jnp.cos(half), jnp.sin(half)
+
+    def edge(sign):
+        return jnp.stack(
+            [
+                cos_h * mid[:, 0] - sign * sin_h * mid[:, 1],
+                sign * sin_h * mid[:, 0] + cos_h * mid[:, 1],
+            ],
+            axis=-1,
+        )
+
     return _Chain(
         a=a,
         b=b,
@@ -205,6 +229,10 @@ def _chain(prof: PeriodicProfile) -> _Chain:
         orient=orient,
         turn=turn,
         arc_s0=arc_s0,
+        edge_plus=edge(1.0),
+        edge_minus=edge(-1.0),
+        end_plus=center + r[:, None] * edge(1.0),
+        end_minus=center + r[:, None] * edge(-1.0),
         period=v[-1, 0] - v[0, 0],
         x0=v[0, 0],
         length=jnp.sum(line_len + arc_len),
@@ -227,13 +255,16 @@ def _segments(c: _Chain, p: jax.Array):
     dist = jnp.sqrt(jnp.sum((p - q) ** 2, axis=-1))
     clamped = (t_raw < 0.0) | (t_raw > 1.0)
     s = c.seg_s0 + t * jnp.sqrt(ab2)
-    return dist, clamped, signed, c.seg_normal, q, s
+    # d s / d p: the unit direction inside the segment, 0 where t is clamped (_clip)
+    ds = jnp.where(((t_raw >= 0.0) & (t_raw <= 1.0))[:, None], ab / jnp.sqrt(ab2)[:, None], 0.0)
+    return dist, clamped, signed, c.seg_normal, q, s, ds
 
 
 def _arcs(c: _Chain, p: jax.Array):
     v = p - c.center
     vv = jnp.sum(v * v, axis=-1, keepdims=True)
-    v = jnp.where(vv > 1e-200, v, c.mid)  # the angle at the centre itself is arbitrary
+    away = vv > 1e-200
+    v = jnp.where(away, v, c.mid)  # the angle at the centre itself is arbitrary
     psi = jnp.arctan2(_cross(c.mid, v), jnp.sum(c.mid * v, axis=-1))
     psi_c = _clip(psi, -c.half, c.half)
     cos, sin = jnp.cos(psi_c), jnp.sin(psi_c)
@@ -246,37 +277,64 @@ def _arcs(c: _Chain, p: jax.Array):
     dist = jnp.sqrt(jnp.sum((p - q) ** 2, axis=-1))
     clamped = jnp.abs(psi) > c.half
     s = c.arc_s0 + c.radius * (c.half + c.turn * psi_c)
-    return dist, clamped, signed, n, q, s
+    # d s / d p = r turn d psi / d p, d psi / d p = (-v_y, v_x) / |v|^2 (0 where clamped)
+    free = (psi >= -c.half) & (psi <= c.half) & away[:, 0]
+    ds = jnp.where(
+        free[:, None], (c.radius * c.turn)[:, None] * _rot90(v) / jnp.where(away, vv, 1.0), 0.0
+    )
+    return dist, clamped, signed, n, q, s, ds
 
 
-def _candidates(c: _Chain, p: jax.Array, m: jax.Array):
-    """Every primitive of the copies -1, 0, +1 of the reference period, for a point ``p``
-    whose x lies in period ``m``: (dist, clamped, signed, normal, point, arc length), each
-    with a leading axis of 6 n in the order (copy, segments then arcs, index)."""
+def _distances(c: _Chain, p: jax.Array, m: jax.Array):
+    """Distance from ``p`` (x in period ``m``) to every primitive of the copies -1, 0, +1 of
+    the reference period, and whether its closest point is clamped to an end; each (6 n,)
+    in the order (copy, segments then arcs, index). The values of :func:`_segments` and
+    :func:`_arcs` (to round-off), without the rest: an arc's distance and clamp come from
+    a cone test against its edges and its precomputed ends rather than from its angle, so
+    no transcendental function is evaluated per candidate (this ranking is most of a
+    projection's cost)."""
     k = m + jnp.array([-1.0, 0.0, 1.0])
-    shift = jnp.stack([k * c.period, jnp.zeros(3)], axis=-1)  # (3, 2)
-    pk = p - shift
-
-    def copy(pk, shift, k):
-        out = []
-        for dist, clamped, signed, n, q, s in (_segments(c, pk), _arcs(c, pk)):
-            out.append((dist, clamped, signed, n, q + shift, s + k * c.length))
-        return tuple(jnp.concatenate(x, axis=0) for x in zip(*out, strict=True))
-
-    parts = jax.vmap(copy)(pk, shift, k)
-    return tuple(x.reshape(-1, *x.shape[2:]) for x in parts)
+    pk = p[None, :] - jnp.stack([k * c.period, jnp.zeros(3)], axis=-1)  # (3, 2)
+    ab = c.b - c.a
+    ab2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), _TINY)
+    d = pk[:, None, :] - c.a[None]  # (3, n, 2)
+    t_raw = jnp.sum(d * ab, axis=-1) / ab2
+    t = _clip(t_raw, 0.0, 1.0)
+    seg_dist = jnp.sqrt(jnp.sum((d - t[..., None] * ab) ** 2, axis=-1))
+    seg_clamped = (t_raw < 0.0) | (t_raw > 1.0)
+    v = pk[:, None, :] - c.center[None]
+    norm_v = jnp.sqrt(jnp.sum(v * v, axis=-1))
+    # |psi| <= half as sin(psi - half) <= 0 <= sin(psi + half) and cos(psi) >= 0, from
+    # cross products with the cone's edges, inclusive to _CONE_TOL rad: a point on an
+    # edge (e.g. straight below a groove's concave bottom corner, in the solid) must rank
+    # the corner's arc unclamped, whose normal gives the right sign, whatever the
+    # round-off (a clamped segment end there has a zero signed distance).
+    tol = _CONE_TOL * norm_v
+    inside = (
+        (_cross(c.edge_plus, v) <= tol)
+        & (_cross(c.edge_minus, v) >= -tol)
+        & (jnp.sum(c.mid * v, axis=-1) >= -tol)
+    )
+    end = jnp.where((_cross(c.mid, v) > 0.0)[..., None], c.end_plus, c.end_minus)
+    arc_dist = jnp.where(
+        inside, jnp.abs(norm_v - c.radius), jnp.sqrt(jnp.sum((pk[:, None, :] - end) ** 2, -1))
+    )
+    dist = jnp.concatenate([seg_dist, arc_dist], axis=1).reshape(-1)
+    clamped = jnp.concatenate([seg_clamped, ~inside], axis=1).reshape(-1)
+    return dist, clamped
 
 
 def _winner(c: _Chain, p: jax.Array, m: jax.Array) -> jax.Array:
-    """Index (into :func:`_candidates`' order) of the primitive closest to ``p``."""
-    dist, clamped = _candidates(c, p, m)[:2]
+    """Index (into :func:`_distances`' order) of the primitive closest to ``p``."""
+    dist, clamped = _distances(c, p, m)
     rank = dist + _CLAMP_BIAS * clamped
     best = jnp.min(rank)
     return jnp.argmax(rank <= best + _TIE * (1.0 + best))
 
 
 def _one(c: _Chain, p: jax.Array, m: jax.Array, i: jax.Array):
-    """The candidate ``i`` of :func:`_candidates` alone (same values), from its primitive."""
+    """Primitive ``i`` (in :func:`_distances`' order) evaluated at ``p``: (dist, clamped,
+    signed distance, normal, closest point, arc length, d arc length / d p)."""
     n = c.a.shape[0]
     k = (i // (2 * n)).astype(p.dtype) - 1.0
     is_arc = (i % (2 * n)) >= n
@@ -292,10 +350,10 @@ def _one(c: _Chain, p: jax.Array, m: jax.Array, i: jax.Array):
     c1 = c._replace(**{f: one(getattr(c, f)) for f in per})
     shift = jnp.stack([(m + k) * c.period, 0.0])
     seg, arc = _segments(c1, p - shift), _arcs(c1, p - shift)
-    dist, clamped, signed, nrm, q, s = (
+    dist, clamped, signed, nrm, q, s, ds = (
         jnp.where(is_arc, b_[0], a_[0]) for a_, b_ in zip(seg, arc, strict=True)
     )
-    return dist, clamped, signed, nrm, q + shift, s + (m + k) * c.length
+    return dist, clamped, signed, nrm, q + shift, s + (m + k) * c.length, ds
 
 
 def project(substrate, p: jax.Array) -> Projection:
@@ -317,7 +375,7 @@ def project(substrate, p: jax.Array) -> Projection:
     p = jnp.asarray(p, dtype=jnp.float64)
     m = jnp.floor((jax.lax.stop_gradient(p[0]) - c.x0) / c.period)
     i = _winner(jax.lax.stop_gradient(c), jax.lax.stop_gradient(p), jax.lax.stop_gradient(m))
-    _, clamped, signed, n, q, s = _one(c, p, m, i)
+    _, clamped, signed, n, q, s, ds = _one(c, p, m, i)
     # Normally the winner is not clamped and gap = (p - q).n is exact and smooth (also on
     # the surface). A clamped winner only happens on the boundary of a corner's cone (ties
     # within round-off): there (p - q).n may be 0 while |p - q| is not, so use the distance
@@ -331,7 +389,9 @@ def project(substrate, p: jax.Array) -> Projection:
     g = jnp.where(use_dist, sign * root, signed)
     normal = jnp.where(use_dist, sign * diff / root, n)
     tangent = jnp.stack([normal[1], -normal[0]])
-    return Projection(gap=g, normal=normal, tangent=tangent, point=q, arc_length=s)
+    return Projection(
+        gap=g, normal=normal, tangent=tangent, point=q, arc_length=s, arc_gradient=ds
+    )
 
 
 def gap(substrate, p: jax.Array) -> jax.Array:
