@@ -389,9 +389,7 @@ def project(substrate, p: jax.Array) -> Projection:
     g = jnp.where(use_dist, sign * root, signed)
     normal = jnp.where(use_dist, sign * diff / root, n)
     tangent = jnp.stack([normal[1], -normal[0]])
-    return Projection(
-        gap=g, normal=normal, tangent=tangent, point=q, arc_length=s, arc_gradient=ds
-    )
+    return Projection(gap=g, normal=normal, tangent=tangent, point=q, arc_length=s, arc_gradient=ds)
 
 
 def gap(substrate, p: jax.Array) -> jax.Array:
