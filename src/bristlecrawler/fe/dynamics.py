@@ -80,6 +80,9 @@ class Integrator:
     predictor: "tangent" (default) starts Newton from q0 + dq with J dq = -(R + dR/dt dt),
     the residual *linearised* in the step's change of the prescribed motions (supports,
     link stretches); "constant" starts from the last converged q. See :func:`make_step`.
+    stall: a step whose Newton goes this many iterations without halving its residual
+    fails with status STALLED, so an adaptive driver cuts it before ``max_iter`` (0: off;
+    see :func:`newton.newton`).
     """
 
     alpha: float = -0.05
@@ -92,8 +95,11 @@ class Integrator:
     predictor: str = "tangent"
     max_penetration: float = math.inf
     max_rotation: float = 1.0
+    stall: int = 0
 
     def __post_init__(self) -> None:
+        if not (isinstance(self.stall, int) and self.stall >= 0):
+            raise InputError(f"stall must be a whole number >= 0, got {self.stall!r}")
         if self.line_search not in ("growth", "monotone"):
             raise InputError(
                 f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
@@ -225,6 +231,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             max_iter=ig.max_iter - extra,
             xscale=jnp.linalg.norm(params.X),
             monotone=ig.line_search == "monotone",
+            stall=ig.stall,
         )
         it = it + extra
         u1, v1, a1 = kin(q1)

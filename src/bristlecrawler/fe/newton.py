@@ -18,7 +18,7 @@ import jax
 import jax.numpy as jnp
 
 from bristlecrawler.fe import banded
-from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, SUCCESS
+from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, STALLED, SUCCESS
 
 
 def newton(
@@ -34,6 +34,7 @@ def newton(
     max_backtracks=8,
     growth=1e6,
     monotone=False,
+    stall=0,
 ):
     """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
@@ -49,6 +50,12 @@ def newton(
     breaks the cycle of a contact point that flips between stick and slip from one
     iterate to the next (a friction force offset from a beam axis locks the node's
     rotation in stick and frees it in slip, so full Newton corrections alternate).
+
+    ``stall`` (static, 0: off): give up, with status STALLED, once ``stall`` iterations
+    have passed without the residual halving (below half the last residual that did).
+    Newton on a contact event that the step is too long for cycles between contact
+    states or creeps at |R|/F ~ 1e-2..1e-5 until the iteration limit; stopping early
+    lets the driver cut the step sooner. Off, ``max_iter`` is the only limit.
     """
 
     def res_only(q):
@@ -66,13 +73,16 @@ def newton(
         still = (dx <= xtol * jnp.maximum(qn, xscale)) & (qn <= q_bound)
         return (jnp.linalg.norm(R) <= rtol * F + atol) | still
 
+    def stalled(it, it_ref):
+        return (it - it_ref >= stall) if stall > 0 else jnp.asarray(False)
+
     def cond(c):
-        q, R, F, it, dx = c
+        q, R, F, it, dx, _, it_ref = c
         finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
-        return (it < max_iter) & ~converged(q, R, F, dx) & finite
+        return (it < max_iter) & ~converged(q, R, F, dx) & finite & ~stalled(it, it_ref)
 
     def body(c):
-        q, R, F, it, _ = c
+        q, R, F, it, _, ref, it_ref = c
         _, J = banded.extract(res_only, q, topo)
         dq = -banded.solve(J, R, topo)
         if monotone:
@@ -93,12 +103,15 @@ def newton(
 
         R1, F1 = residual(q + dq)
         s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, (jnp.asarray(1.0), R1, F1, 0))
-        return q + s * dq, Rn, Fn, it + 1, jnp.linalg.norm(s * dq)
+        rn = jnp.linalg.norm(Rn)
+        halved = rn <= 0.5 * ref
+        ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
+        return q + s * dq, Rn, Fn, it + 1, jnp.linalg.norm(s * dq), ref, it_ref
 
-    init = (q0, R0, F0, jnp.asarray(0), jnp.asarray(jnp.inf))
-    q, R, F, it, dx = jax.lax.while_loop(cond, body, init)
+    zero = jnp.asarray(0)
+    init = (q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero)
+    q, R, F, it, dx, _, it_ref = jax.lax.while_loop(cond, body, init)
     finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
-    status = jnp.where(
-        ~finite, NONFINITE, jnp.where(converged(q, R, F, dx), SUCCESS, MAX_ITERATIONS)
-    )
+    failed = jnp.where(stalled(it, it_ref), STALLED, MAX_ITERATIONS)
+    status = jnp.where(~finite, NONFINITE, jnp.where(converged(q, R, F, dx), SUCCESS, failed))
     return q, it, jnp.linalg.norm(R), F, status

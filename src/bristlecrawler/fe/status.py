@@ -21,6 +21,7 @@ ROTATION_LIMIT = 5
 PENETRATION = 6
 STEP_ERROR = 7
 CONTACT_OVERFLOW = 8
+STALLED = 9
 
 _TEXT = {
     SUCCESS: "converged",
@@ -36,6 +37,7 @@ _TEXT = {
         "contact broad phase evaluates (raise the contact term's 'active' count; a smaller "
         "step does not help)"
     ),
+    STALLED: "Newton stalled: the residual stopped halving (Integrator.stall iterations)",
 }
 
 

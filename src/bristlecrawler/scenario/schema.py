@@ -88,6 +88,13 @@ class SolverConfig(_Section):
     dt_min: float = _pos(1e-6, "smallest time step before giving up, s")
     tolerance: float = _pos(1e-8, "Newton tolerance on the relative residual, -")
     max_iterations: int = Field(25, ge=2, le=1000, description="Newton iterations per step")
+    stall_iterations: int = Field(
+        0,
+        ge=0,
+        le=1000,
+        description="cut a step whose Newton goes this many iterations without halving its "
+        "residual (0: off, only max_iterations)",
+    )
     line_search: Literal["growth", "monotone"] = Field(
         "monotone",
         description="Newton line search: halve a correction until the residual decreases "
