@@ -60,9 +60,9 @@ def _rootless(stall, q0=0.5):
 
 
 def test_stall_stops_newton_early_with_its_own_status():
-    q, it, _, _, status = _rootless(0)
+    _, it, _, _, status = _rootless(0)
     assert int(status) == MAX_ITERATIONS and int(it) == 40
-    q, it, _, _, status = _rootless(4)
+    _, it, _, _, status = _rootless(4)
     assert int(status) == STALLED
     assert 4 <= int(it) < 40
 

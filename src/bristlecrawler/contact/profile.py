@@ -295,13 +295,9 @@ def _distances(c: _Chain, p: jax.Array, m: jax.Array):
     projection's cost)."""
     k = m + jnp.array([-1.0, 0.0, 1.0])
     pk = p[None, :] - jnp.stack([k * c.period, jnp.zeros(3)], axis=-1)  # (3, 2)
-    ab = c.b - c.a
-    ab2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), _TINY)
-    d = pk[:, None, :] - c.a[None]  # (3, n, 2)
-    t_raw = jnp.sum(d * ab, axis=-1) / ab2
-    t = _clip(t_raw, 0.0, 1.0)
-    seg_dist = jnp.sqrt(jnp.sum((d - t[..., None] * ab) ** 2, axis=-1))
-    seg_clamped = (t_raw < 0.0) | (t_raw > 1.0)
+    # segments as evaluated in full (no angles there; what the ranking does not use is
+    # dropped by the compiler)
+    seg_dist, seg_clamped = jax.vmap(lambda q: _segments(c, q)[:2])(pk)  # (3, n) each
     v = pk[:, None, :] - c.center[None]
     norm_v = jnp.sqrt(jnp.sum(v * v, axis=-1))
     # |psi| <= half as sin(psi - half) <= 0 <= sin(psi + half) and cos(psi) >= 0, from

@@ -275,9 +275,7 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
                 raise err from None
             t = float(carry.state.t)
     wall = time.perf_counter() - wall0
-    return _history(
-        cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s
-    )
+    return _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s)
 
 
 def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:

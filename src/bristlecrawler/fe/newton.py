@@ -103,9 +103,10 @@ def newton(
 
         R1, F1 = residual(q + dq)
         s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, (jnp.asarray(1.0), R1, F1, 0))
-        rn = jnp.linalg.norm(Rn)
-        halved = rn <= 0.5 * ref
-        ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
+        if stall > 0:  # static: no bookkeeping in the loop when off
+            rn = jnp.linalg.norm(Rn)
+            halved = rn <= 0.5 * ref
+            ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
         return q + s * dq, Rn, Fn, it + 1, jnp.linalg.norm(s * dq), ref, it_ref
 
     zero = jnp.asarray(0)
