@@ -68,16 +68,32 @@ def _pattern(topo, shift: int):
     return np.where(band, col % k, 0), np.where(band, row, 0), band
 
 
-def extract(fn, x, topo) -> tuple[jax.Array, BlockSystem]:
-    """``fn(x)`` and its Jacobian at ``x`` as a :class:`BlockSystem` (sparsity of ``topo``)."""
+def extract(fn, x, topo, t=None, dt=None):
+    """``fn(x)`` and its Jacobian at ``x`` as a :class:`BlockSystem` (sparsity of ``topo``).
+
+    With a time ``t`` (and its increment ``dt``), ``fn`` takes ``(x, t)`` and a third value
+    is returned: the derivative of ``fn`` along ``t`` times ``dt``, from the same
+    linearisation (one more seed), which a tangent predictor needs; the Newton loop then
+    holds one copy of the linearised residual instead of two (half the compiled program).
+    """
     n_int, nb, bs, nblk = topo.n_interior, topo.n_border, topo.bs, topo.n_blocks
     pad = nblk * bs - n_int
-    y, f_jvp = jax.linearize(fn, x)
-    Y = jax.vmap(f_jvp)(jnp.asarray(_seeds(topo)))  # (colours, n): Y[c, i] = J[i, col of c]
+    timed = t is not None
+    g = fn if timed else (lambda x, _t: fn(x))
+    t = jnp.zeros((), x.dtype) if t is None else t
+    y, f_jvp = jax.linearize(g, x, t)
+    # One batch of tangents: the band's colours, the border columns, and the time seed.
+    k = _colours(topo)
+    seeds = [jnp.asarray(_seeds(topo)), jnp.eye(topo.n_red, dtype=x.dtype)[n_int:]]
+    tseed = [jnp.zeros(k + nb, x.dtype)]
+    if timed:
+        seeds.append(jnp.zeros((1, topo.n_red), x.dtype))
+        tseed.append(jnp.reshape(dt, (1,)).astype(x.dtype))
+    Y = jax.vmap(f_jvp)(jnp.concatenate(seeds), jnp.concatenate(tseed))
 
     def pick(shift):
         colour, row, band = _pattern(topo, shift)
-        return jnp.where(band, Y[colour, row], 0.0)  # [I, r, p]
+        return jnp.where(band, Y[colour, row], 0.0)  # [I, r, p]: Y[c, i] = J[i, col of c]
 
     diag = pick(0)
     pad_eye = np.zeros((nblk * bs,))
@@ -85,10 +101,12 @@ def extract(fn, x, topo) -> tuple[jax.Array, BlockSystem]:
     diag = diag + jax.vmap(jnp.diag)(jnp.asarray(pad_eye.reshape(nblk, bs)))
     lower, upper = pick(-1), pick(1)
     if nb:
-        E = jnp.eye(topo.n_red)[n_int:]
-        cols = jax.vmap(f_jvp)(E)  # (nb, n): J[:, k]
-        _, f_vjp = jax.vjp(fn, x)
-        rows = jax.vmap(lambda e: f_vjp(e)[0])(E)  # (nb, n): J[k, :]
+        cols = Y[k : k + nb]  # (nb, n): J[:, j] for the border columns j
+        # The border rows J[j, :] by transposing the same linearisation (no second
+        # forward pass of the residual, as jax.vjp would compile).
+        f_vjp = jax.linear_transpose(f_jvp, x, t)
+        E = jnp.eye(topo.n_red, dtype=x.dtype)[n_int:]
+        rows = jax.vmap(lambda e: f_vjp(e)[0])(E)  # (nb, n)
         B = jnp.pad(cols[:, :n_int].T, ((0, pad), (0, 0)))
         C = jnp.pad(rows[:, :n_int], ((0, 0), (0, pad)))
         D = rows[:, n_int:]
@@ -96,7 +114,8 @@ def extract(fn, x, topo) -> tuple[jax.Array, BlockSystem]:
         B = jnp.zeros((nblk * bs, 0))
         C = jnp.zeros((0, nblk * bs))
         D = jnp.zeros((0, 0))
-    return y, BlockSystem(lower, diag, upper, B, C, D)
+    system = BlockSystem(lower, diag, upper, B, C, D)
+    return (y, system, Y[-1]) if timed else (y, system)
 
 
 def _thomas(system: BlockSystem, R):

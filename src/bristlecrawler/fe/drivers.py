@@ -16,6 +16,7 @@ from typing import Any
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.dynamics import DynState, Integrator, StepInfo, make_step
@@ -197,7 +198,8 @@ def make_host_driver(
             info=info,
             cause=jnp.asarray(cause),
         )
-        buf = jax.tree.map(lambda *r: jnp.stack(r), *rows) if rows else None
+        # Stacked on the host: jnp.stack would compile a program for every chunk length.
+        buf = jax.tree.map(lambda *r: np.stack(r), *jax.device_get(rows)) if rows else None
         return carry, buf, len(rows), failed
 
     return run

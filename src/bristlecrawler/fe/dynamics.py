@@ -214,26 +214,22 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             # Newton iteration, which it replaces when nothing is prescribed (dR/dtc = 0).
             # (Extrapolating with v and a was tried earlier and dropped: for steps far above
             # the period, Omega = 1e3 in the HHT check, it lands Newton on another root.)
-            Rm, Rt = jax.jvp(lambda tc: residual(state.q, tc)[0], (t0,), (dt,))
-            _, J0 = banded.extract(lambda q: residual(q, t0)[0], state.q, topo)
-            q_pred = state.q - banded.solve(J0, Rm + Rt, topo)
-            q_pred = jnp.where(jnp.all(jnp.isfinite(q_pred)), q_pred, state.q)
-            extra = 1
+            # The predictor is Newton's iteration 0 (see newton's ``predict``).
+            predict = (t0, t1, dt)
         else:
-            q_pred = state.q
-            extra = 0
+            predict = None
         q1, it, rn, F, status = newton(
             residual,
-            q_pred,
+            state.q,
             topo,
             rtol=ig.rtol,
             atol=ig.atol,
-            max_iter=ig.max_iter - extra,
+            max_iter=ig.max_iter,
             xscale=jnp.linalg.norm(params.X),
             monotone=ig.line_search == "monotone",
             stall=ig.stall,
+            predict=predict,
         )
-        it = it + extra
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)
         # The paper crawler's front tip node once turned by 5.33 rad (2 pi - 0.95) in a
@@ -258,6 +254,29 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
     return step
 
 
+@functools.lru_cache(maxsize=64)
+def _initial_acceleration_fn(topo, terms):
+    """Jitted ``(q, t, history, params) -> (u, a)``: one compiled program, so a run's start
+    does not dispatch (and compile) the residual op by op (70 s for the paper crawler)."""
+    from bristlecrawler.fe.modal import _mass_fn
+
+    @jax.jit
+    def fn(q, t, history, params):
+        def expand(q):
+            return assembly.expand(q, t, 1.0, params, topo)
+
+        u = expand(q)
+        r, _ = _force(u, jnp.zeros_like(u), t, history, params, topo, terms)
+        if not topo.n_red:
+            return u, jnp.zeros_like(u)
+        _, pull = jax.vjp(expand, q)
+        M = _mass_fn(topo)(q, params, t, jnp.asarray(1.0))
+        ar = banded.solve(M, -pull(r)[0], topo)
+        return u, jax.jvp(expand, (q,), (ar,))[1]
+
+    return fn
+
+
 def initial_state(model, u=None, q=None, t: float = 0.0, history=None) -> DynState:
     """Dynamic state at rest at time ``t`` (s), from a static state's ``q`` (or zeros).
 
@@ -265,25 +284,12 @@ def initial_state(model, u=None, q=None, t: float = 0.0, history=None) -> DynSta
     J M_r^-1 J^T (f_ext - f_int - r_k), M_r = J^T M J (rest: no damping, no velocity terms);
     it is zero at a static equilibrium.
     """
-    from bristlecrawler.fe import banded
-
     topo, params = model.topology, model.params
-    q = jnp.zeros(topo.n_red) if q is None else jnp.asarray(q)
+    q = jnp.zeros(topo.n_red) if q is None else jnp.asarray(q, jnp.float64)
     hist = init_histories(model) if history is None else history
-    u = assembly.expand(q, t, 1.0, params, topo)
-    v = jnp.zeros_like(u)
-    r, _ = _force(u, v, t, hist, params, topo, model.terms)
-    a = jnp.zeros_like(u)
-    if topo.n_red:
-        from bristlecrawler.fe.modal import mass_matrix
-
-        def expand(q):
-            return assembly.expand(q, t, 1.0, params, topo)
-
-        _, pull = jax.vjp(expand, q)
-        ar = banded.solve(mass_matrix(model, q, t, 1.0), -pull(r)[0], topo)
-        a = jax.jvp(expand, (q,), (ar,))[1]
-    return DynState(jnp.asarray(float(t)), q, u, v, a, hist)
+    tt = jnp.asarray(float(t), jnp.float64)
+    u, a = _initial_acceleration_fn(topo, model.terms)(q, tt, hist, params)
+    return DynState(tt, q, u, jnp.zeros_like(u), a, hist)
 
 
 def energy(state: DynState, model) -> dict[str, float]:

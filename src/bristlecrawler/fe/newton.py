@@ -35,6 +35,7 @@ def newton(
     growth=1e6,
     monotone=False,
     stall=0,
+    predict=None,
 ):
     """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
@@ -56,12 +57,26 @@ def newton(
     Newton on a contact event that the step is too long for cycles between contact
     states or creeps at |R|/F ~ 1e-2..1e-5 until the iteration limit; stopping early
     lets the driver cut the step sooner. Off, ``max_iter`` is the only limit.
+
+    ``predict = (t0, t1, dt)`` (a time step, ``dt = t1 - t0``): ``residual`` takes
+    ``(q, tc)``, the time of the prescribed motions, and the equation solved is
+    ``residual(q, t1)[0] = 0``. Iteration 0 is then the tangent (Euler) predictor from
+    ``q0``, a state at ``t0``: ``J(q0, t0) dq = -(R(q0, t0) + dR/dtc dt)``, taken whole
+    (no line search; no correction where it is not finite) and counted as an iteration.
+    It runs in the same loop body as the corrections, so the compiled program holds one
+    linearised residual, not two.
     """
+    if predict is None:
+        res_t = lambda q, tc: residual(q)  # noqa: E731
+        tc0 = tc1 = dt = jnp.zeros(())
+    else:
+        res_t = residual
+        tc0, tc1, dt = predict
 
-    def res_only(q):
-        return residual(q)[0]
+    def first(it):
+        return (it == 0) if predict is not None else jnp.asarray(False)
 
-    R0, F0 = residual(q0)
+    R0, F0 = res_t(q0, tc0)
 
     # The stalled-iterate test must not accept a run-away iterate, whose corrections are
     # also small relative to |q| (full Newton steps on arctan(q - 3) reach |q| ~ 1e292 and
@@ -79,12 +94,21 @@ def newton(
     def cond(c):
         q, R, F, it, dx, _, it_ref = c
         finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
-        return (it < max_iter) & ~converged(q, R, F, dx) & finite & ~stalled(it, it_ref)
+        solve = ~converged(q, R, F, dx) & finite & ~stalled(it, it_ref)
+        return (it < max_iter) & (first(it) | solve)
 
     def body(c):
         q, R, F, it, _, ref, it_ref = c
-        _, J = banded.extract(res_only, q, topo)
-        dq = -banded.solve(J, R, topo)
+        pred = first(it)
+        tc = jnp.where(pred, tc0, tc1)
+        if predict is None:
+            _, J = banded.extract(lambda q: res_t(q, tc)[0], q, topo)
+            rhs = R
+        else:
+            _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc)[0], q, topo, tc, dt)
+            rhs = R + jnp.where(pred, Rt, 0.0)
+        dq = -banded.solve(J, rhs, topo)
+        dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
         if monotone:
             bound = jnp.linalg.norm(R)
         else:
@@ -92,22 +116,27 @@ def newton(
 
         def ls_cond(ls):
             _, Rn, _, k = ls
-            ok = jnp.all(jnp.isfinite(Rn)) & (jnp.linalg.norm(Rn) <= bound)
-            return ~ok & (k < max_backtracks)
+            ok = pred | (jnp.all(jnp.isfinite(Rn)) & (jnp.linalg.norm(Rn) <= bound))
+            return (k < 0) | (~ok & (k < max_backtracks))
 
         def ls_body(ls):
             s, _, _, k = ls
             s = 0.5 * s
-            Rn, Fn = residual(q + s * dq)
+            Rn, Fn = res_t(q + s * dq, tc1)
             return s, Rn, Fn, k + 1
 
-        R1, F1 = residual(q + dq)
-        s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, (jnp.asarray(1.0), R1, F1, 0))
+        # k = -1: the full step is tried in the loop too (one residual in the program).
+        ls0 = (jnp.asarray(2.0), R, F, -1)
+        s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, ls0)
+        rn = jnp.linalg.norm(Rn)
         if stall > 0:  # static: no bookkeeping in the loop when off
-            rn = jnp.linalg.norm(Rn)
             halved = rn <= 0.5 * ref
             ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
-        return q + s * dq, Rn, Fn, it + 1, jnp.linalg.norm(s * dq), ref, it_ref
+        # After the predictor: the corrections start afresh (no stalled-iterate test on
+        # the predictor's move; the stall count starts at its residual).
+        dx = jnp.where(pred, jnp.inf, jnp.linalg.norm(s * dq))
+        ref, it_ref = jnp.where(pred, rn, ref), jnp.where(pred, it + 1, it_ref)
+        return q + s * dq, Rn, Fn, it + 1, dx, ref, it_ref
 
     zero = jnp.asarray(0)
     init = (q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero)

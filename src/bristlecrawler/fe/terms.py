@@ -35,7 +35,10 @@ converges linearly, or not at all). Static solves call ``residual`` with v = 0.
 
 from __future__ import annotations
 
+import functools
 from typing import Any, Protocol
+
+import jax
 
 
 class Term(Protocol):
@@ -54,12 +57,22 @@ def node_groups(term) -> tuple[tuple[int, ...], ...]:
     return tuple(tuple(int(n) for n in g) for g in groups)
 
 
+@functools.lru_cache(maxsize=64)
+def _init_histories_fn(topology, terms):
+    # One compiled program: run op by op, the corner term's history alone cost 15 s at the
+    # start of a crawler run (every primitive compiled on its own).
+    return jax.jit(
+        lambda extra: tuple(
+            term.init_history(topology, p) for term, p in zip(terms, extra, strict=True)
+        )
+    )
+
+
 def init_histories(model) -> tuple:
     """Initial history of every term of ``model``."""
-    return tuple(
-        term.init_history(model.topology, p)
-        for term, p in zip(model.terms, model.params.extra, strict=True)
-    )
+    if not model.terms:
+        return ()
+    return _init_histories_fn(model.topology, model.terms)(model.params.extra)
 
 
 def commit_all(terms, u, v, t, history, params) -> tuple:
