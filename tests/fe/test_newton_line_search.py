@@ -85,3 +85,47 @@ def test_stall_leaves_a_converging_newton_alone():
 def test_negative_stall_is_refused():
     with pytest.raises(InputError, match="stall"):
         Integrator.hht(stall=-1)
+
+
+def _drifting(q, tc, c=1.2):
+    """R(q, t) = arctan(q - c t) per DOF: the root moves with t (c mm/s), and the tangent
+    predictor from a root at t0, J dq = -(R + dR/dt dt), lands on the root at t1."""
+    return jnp.arctan(q - c * tc), jnp.asarray(1.0)
+
+
+def test_timed_extraction_gives_the_time_derivative_of_the_same_linearisation():
+    import jax
+
+    from bristlecrawler.fe import banded
+
+    topo = cantilever().topology
+    q = jnp.linspace(-1.0, 2.0, topo.n_red)
+    t, dt = jnp.asarray(0.3), jnp.asarray(0.7)
+    y, J, yt = banded.extract(lambda q, tc: _drifting(q, tc)[0], q, topo, t, dt)
+    y0, ref = jax.jvp(lambda tc: _drifting(q, tc)[0], (t,), (dt,))
+    np.testing.assert_allclose(np.asarray(y), np.asarray(y0), rtol=1e-15)
+    np.testing.assert_allclose(np.asarray(yt), np.asarray(ref), rtol=1e-14)
+    dense = banded.to_scipy(J, topo).toarray()
+    np.testing.assert_allclose(np.diag(dense), 1.0 / (1.0 + (q - 1.2 * t) ** 2), rtol=1e-14)
+    np.testing.assert_allclose(dense - np.diag(np.diag(dense)), 0.0, atol=0.0)
+    _, J0 = banded.extract(lambda q: _drifting(q, t)[0], q, topo)
+    np.testing.assert_array_equal(banded.to_scipy(J0, topo).toarray(), dense)
+
+
+def test_predictor_is_newtons_first_iteration():
+    """From the root at t0 the predictor alone solves the drifting arctan at t1 (one
+    iteration, no correction); plain Newton from the same start needs several."""
+    topo = cantilever().topology
+    t0, t1 = jnp.asarray(0.0), jnp.asarray(1.0)
+    q0 = jnp.zeros(topo.n_red)  # root at t0
+    kw = dict(rtol=1e-12, atol=0.0, max_iter=40)
+    q, it, _, _, status = newton(_drifting, q0, topo, predict=(t0, t1, t1 - t0), **kw)
+    assert int(status) == SUCCESS and int(it) == 1
+    np.testing.assert_allclose(np.asarray(q), 1.2, rtol=1e-14)
+    q, it, _, _, status = newton(lambda q: _drifting(q, t1), q0, topo, **kw)
+    assert int(status) == SUCCESS and int(it) >= 4
+    # The predictor counts against max_iter, and is taken even when it is the last one.
+    _, it, _, _, status = newton(
+        _drifting, q0, topo, predict=(t0, t1, t1 - t0), max_iter=1, rtol=1e-12, atol=0.0
+    )
+    assert int(it) == 1 and int(status) == SUCCESS
