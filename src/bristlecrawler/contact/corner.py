@@ -128,6 +128,17 @@ def _face_points(u, nodes, params):
     return attached_points(params.X, u[nodes], params.offset)
 
 
+def _pulled(current, pull, law, drop=None):
+    """Nodal forces of pairs with (gap, current arc, anchor) ``current`` through the VJP
+    ``pull`` of their geometry; pairs flagged in ``drop`` carry none."""
+    fg, fs = generalized_forces(*current, law)
+    if drop is not None:
+        fg, fs = jnp.where(drop, 0.0, fg), jnp.where(drop, 0.0, fs)
+    # The penalty energy depends on s - a: the anchor's material point moves with the
+    # outline, so it takes -fs.
+    return pull((fg, fs, -fs))[0]
+
+
 @dataclasses.dataclass(frozen=True)
 class FaceCornerContact:
     """Contact of closed beam outlines ``faces`` (each a tuple of FE node indices, one per
@@ -260,14 +271,9 @@ class FaceCornerContact:
         to_cur = jax.vmap(current_arc, in_axes=(0, 0, 0))
         return g, to_cur(P, params.arc, s), to_cur(P, params.arc, anchor)
 
-    def _force(self, u, C, rho, anchor, params, keep=None):
-        (g, s, a), pull = jax.vjp(lambda u: self._current_at(u, C, rho, anchor, params), u)
-        fg, fs = generalized_forces(g, s, a, params.law)
-        if keep is not None:
-            fg, fs = jnp.where(keep, fg, 0.0), jnp.where(keep, fs, 0.0)
-        # The penalty energy depends on s - a: the anchor's material point moves with the
-        # outline, so it takes -fs.
-        return pull((fg, fs, -fs))[0]
+    def _force(self, u, C, rho, anchor, params):
+        current, pull = jax.vjp(lambda u: self._current_at(u, C, rho, anchor, params), u)
+        return _pulled(current, pull, params.law)
 
     def residual(self, u, v, t, history, params):
         """Forces of every pair; the derivative (the Newton tangent) is taken through the
@@ -285,7 +291,11 @@ class FaceCornerContact:
         if self.tangent_pairs >= m:
             return self._force(u, C, rho, history.anchor, params)
         u0 = jax.lax.stop_gradient(u)
-        g0 = self._current_at(u0, C, rho, history.anchor, params)[0]
+        # One pass over every pair gives both the gaps that choose the differentiated
+        # pairs and the (constant) forces of the others.
+        (g0, s0, a0), pull = jax.vjp(
+            lambda u: self._current_at(u, C, rho, history.anchor, params), u0
+        )
         _, idx = jax.lax.top_k(-g0, self.tangent_pairs)  # (F, k): the closest corners
 
         def take(x):
@@ -293,7 +303,7 @@ class FaceCornerContact:
 
         chosen = jnp.zeros(g0.shape, bool).at[jnp.arange(g0.shape[0])[:, None], idx].set(True)
         near = self._force(u, take(C), take(rho), take(history.anchor), params)
-        rest = self._force(u0, C, rho, history.anchor, params, keep=~chosen)
+        rest = _pulled((g0, s0, a0), pull, params.law, drop=chosen)
         return near + jax.lax.stop_gradient(rest)
 
     def penetration(self, history, params):
