@@ -257,7 +257,8 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
 @functools.lru_cache(maxsize=64)
 def _initial_acceleration_fn(topo, terms):
     """Jitted ``(q, t, history, params) -> (u, a)``: one compiled program, so a run's start
-    does not dispatch (and compile) the residual op by op (70 s for the paper crawler)."""
+    does not dispatch (and compile) the residual op by op (70 s of the paper crawler's start,
+    timed under a profiler)."""
     from bristlecrawler.fe.modal import _mass_fn
 
     @jax.jit
