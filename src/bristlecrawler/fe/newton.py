@@ -100,15 +100,14 @@ def newton(
     def body(c):
         q, R, F, it, _, ref, it_ref = c
         pred = first(it)
-        tc = jnp.where(pred, tc0, tc1)
         if predict is None:
-            _, J = banded.extract(lambda q: res_t(q, tc)[0], q, topo)
-            rhs = R
+            _, J = banded.extract(lambda q: res_t(q, tc1)[0], q, topo)
+            dq = -banded.solve(J, R, topo)
         else:
+            tc = jnp.where(pred, tc0, tc1)
             _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc)[0], q, topo, tc, dt)
-            rhs = R + jnp.where(pred, Rt, 0.0)
-        dq = -banded.solve(J, rhs, topo)
-        dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
+            dq = -banded.solve(J, R + jnp.where(pred, Rt, 0.0), topo)
+            dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
         if monotone:
             bound = jnp.linalg.norm(R)
         else:
