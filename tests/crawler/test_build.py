@@ -48,3 +48,24 @@ def test_axis_points_as_discs_of_half_thickness(discs):
     # the tip discs start touching the land top (1 micrometre in)
     X = np.asarray(cm.model.params.X)
     np.testing.assert_allclose(X[list(cm.tips), 1] - 0.25, -1e-3, atol=1e-12)
+
+
+@pytest.mark.parametrize("drift", [1e-4, 1e-3, 1e-2])
+def test_stick_drift_sets_the_stick_penalty(drift):
+    # In stick a point at the friction limit of the penalty load (the weight on one
+    # bristle) is displaced by exactly stick_drift; both contact terms share the law.
+    sc = _scenario(stick_drift=drift)
+    cm = build_crawler(sc)
+    b, br = sc.body, sc.bristle
+    mass = 2 * b.end_mass + 2 * br.density * br.width * br.length * 0.5 * (
+        br.thickness_clamp + br.thickness_tip
+    )
+    limit = sc.substrate.mu * mass * sc.gravity / 2
+    for p in cm.model.params.extra:
+        np.testing.assert_allclose(limit / float(p.law.k_t), drift, rtol=1e-12)
+        np.testing.assert_allclose(mass * sc.gravity / 2 / float(p.law.k_n), 1e-3, rtol=1e-12)
+
+
+def test_stick_drift_must_be_positive():
+    with pytest.raises(ValueError, match="stick_drift"):
+        _scenario(stick_drift=0.0)

@@ -46,9 +46,14 @@ def test_balance_residual_is_the_sum_of_step_errors(m, data):
     steps = [float(EnergyCheck.error(a, b)) for a, b in itertools.pairwise(recs)]
     res = _history(t, fc, s, en).energy_balance_residual()
     np.testing.assert_allclose(res[1:] - res[0], np.cumsum(steps), atol=1e-9)
-    tol = 0.37
+    tol, loss = 0.37, 0.11
+    err = np.asarray(steps)
+    # Energy created is measured against tol, energy lost against loss_tol (default none).
     ratios = [float(EnergyCheck(tol)(a, b)) for a, b in itertools.pairwise(recs)]
-    np.testing.assert_allclose(ratios, np.abs(steps) / tol, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ratios, np.maximum(-err, 0.0) / tol, rtol=1e-12, atol=1e-12)
+    ratios = [float(EnergyCheck(tol, loss)(a, b)) for a, b in itertools.pairwise(recs)]
+    want = np.where(err < 0, -err / tol, err / loss)
+    np.testing.assert_allclose(ratios, want, rtol=1e-12, atol=1e-12)
 
 
 def test_a_step_that_creates_energy_is_refused():
@@ -60,3 +65,15 @@ def test_a_step_that_creates_energy_is_refused():
     # The same kinetic energy paid by the connector closes the balance.
     c = dict(b, stretch=1.02)
     assert abs(float(EnergyCheck.error(a, c))) < 1e-15
+
+
+def test_a_step_that_loses_energy_is_refused_only_under_a_loss_bound():
+    """Kinetic energy lost (an inelastic impact: no work, nothing stored or dissipated)."""
+    a = {"t": 0.0, "fc": 0.1, "stretch": 1.0, "energies": jnp.array([0, 3e-3, 0, 0, 0, 0.0])}
+    b = {"t": 1e-3, "fc": 0.1, "stretch": 1.0, "energies": jnp.zeros(6)}
+    assert float(EnergyCheck.error(a, b)) == 3e-3
+    assert float(EnergyCheck(1e-3)(a, b)) == 0.0
+    assert float(EnergyCheck(1e-3, 1e-3)(a, b)) > 1.0 >= float(EnergyCheck(1e-3, 1e-2)(a, b))
+    # A non-finite balance is refused whatever the bounds.
+    c = dict(b, energies=jnp.array([0, jnp.nan, 0, 0, 0, 0.0]))
+    assert not float(EnergyCheck(1e-3)(a, c)) <= 1.0

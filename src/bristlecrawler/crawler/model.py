@@ -161,12 +161,14 @@ def build_crawler(
     if discs:
         radius = 0.5 * (br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac)
     # Penalties sized for the weight on one bristle (or a given peak load): penetration
-    # below 1 micrometre and stick drift below 1e-4 mm at that load.
+    # below 1 micrometre and stick drift below contact.stick_drift at that load.
     weight = (
         2 * b.end_mass
         + 2 * br.density * br.width * br.length * 0.5 * (br.thickness_clamp + br.thickness_tip)
     ) * sc.gravity
-    law = CoulombLaw.for_reference_load(sc.substrate.mu, load=penalty_load or weight / 2)
+    law = CoulombLaw.for_reference_load(
+        sc.substrate.mu, load=penalty_load or weight / 2, max_stick_drift=sc.contact.stick_drift
+    )
     X = np.asarray(s._X)  # reference coordinates (builder internal, read-only use)
     term = SubstrateContact(tuple(int(n) for n in cnodes), active=sc.contact.active_points)
     s.add_term(

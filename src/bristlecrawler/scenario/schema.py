@@ -87,7 +87,14 @@ class SolverConfig(_Section):
     dt_max: float = _pos(0.05, "largest time step, s")
     dt_min: float = _pos(1e-6, "smallest time step before giving up, s")
     tolerance: float = _pos(1e-8, "Newton tolerance on the relative residual, -")
-    max_iterations: int = Field(25, ge=2, le=1000, description="Newton iterations per step")
+    max_iterations: int = Field(
+        12,
+        ge=2,
+        le=1000,
+        description="Newton iterations per step attempt before the step is cut: a contact "
+        "point flipping between stick and slip makes Newton cycle, and a cut step is "
+        "cheaper than iterating on (docs/fe-crawler-investigation.md)",
+    )
     stall_iterations: int = Field(
         0,
         ge=0,
@@ -109,9 +116,18 @@ class SolverConfig(_Section):
         1e-2,
         gt=0.0,
         allow_inf_nan=True,
-        description="largest energy-balance error one step may make, mJ: connector work "
-        "minus the changes of elastic, kinetic and potential energy and of the friction "
-        "and damping dissipation over the step; a step above it is cut (inf: no control)",
+        description="largest energy one step may create, mJ: the changes of elastic, "
+        "kinetic and potential energy and of the friction and damping dissipation over the "
+        "step minus the connector work; a step above it is cut (inf: no control)",
+    )
+    energy_loss_tol: float = Field(
+        float("inf"),
+        gt=0.0,
+        allow_inf_nan=True,
+        description="largest energy one step may lose, mJ (the same balance, the other "
+        "sign): the impact-like loss of a large step across a snap. A bound (0.01 mJ, say) "
+        "makes the steps resolve the snaps: a smaller balance residual for about twice the "
+        "steps (docs/fe-crawler-investigation.md; inf: no bound)",
     )
 
 
@@ -151,8 +167,18 @@ class ContactConfig(_Section):
         None,
         gt=0.0,
         allow_inf_nan=False,
-        description="load (N) at which penetration stays below 1e-3 mm and stick drift "
-        "below 1e-4 mm; default: the weight on one bristle",
+        description="load (N) at which penetration stays below 1e-3 mm and the stick drift "
+        "below contact.stick_drift; default: the weight on one bristle",
+    )
+    stick_drift: float = Field(
+        1e-3,
+        gt=0.0,
+        allow_inf_nan=False,
+        description="elastic tangential displacement in stick at the friction limit of the "
+        "penalty load, mm (sets the stick penalty k_t = mu load / stick_drift); about the "
+        "commercial code's default elastic slip, 0.5 % of the element length (1.25e-3 mm "
+        "for 20 elements on 5 mm). A smaller drift gives the same gait and costs Newton "
+        "iterations (docs/fe-crawler-investigation.md)",
     )
     active_points: int | None = Field(
         16,
