@@ -153,6 +153,15 @@ def _observer(cm: CrawlerModel):
     return observe
 
 
+@jax.jit
+def _profile_line(xs, substrate):
+    """Substrate surface points below ``xs`` (mm), for the figures: one compiled program
+    (op by op, the projection compiled about 40 small programs at every run's end)."""
+    from bristlecrawler.contact.profile import project
+
+    return jax.vmap(lambda px: project(substrate, jnp.array([px, 5.0])).point)(xs)
+
+
 def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> CrawlerHistory:
     """Run the scenario and return its :class:`CrawlerHistory` (raises SolverError on failure)."""
     from bristlecrawler import fe
@@ -325,10 +334,8 @@ def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settl
     tips = np.stack([x[:, cm.tips[0]], x[:, cm.tips[1]]], axis=1)
     # Contact state of the tips: contact term's node order starts with the tips for "tip".
     xs = np.linspace(x[..., 0].min() - 5.0, x[..., 0].max() + 5.0, 4000)
-    from bristlecrawler.contact.profile import project
-
     sub = cm.model.params.extra[0].substrate
-    surf = jax.vmap(lambda px: project(sub, jnp.array([px, 5.0])).point)(jnp.asarray(xs))
+    surf = _profile_line(jnp.asarray(xs), sub)
     period = sc.actuation.period if sc.actuation.kind == "sin2" else None
     return CrawlerHistory(
         t=t - settle,
