@@ -16,11 +16,13 @@ blew up a run with a short dt_max before the check existed. Energy lost is what 
 implicit step across a snap (a tip dropping into a groove, a face slipping off a land
 edge) does: it jumps to the new equilibrium and the integrator dissipates part of the
 released elastic energy, like an inelastic impact. Bounding the loss per step makes the
-steps resolve the snaps, at a cost: on the paper's first cycle a bound of 0.01 mJ took
-1762 steps and 14127 Newton iterations for a balance residual of 1.5 % of W_c, no bound
-881 steps and 6965 iterations for 7.0 %, with the advance equal to 0.005 % and W_c
-1.3 % apart (docs/fe-crawler-investigation.md). The loss is unbounded by default and is
-reported as the run's balance residual.
+steps resolve the snaps, at a cost: five cycles of the paper scenario took 9162 steps and
+106333 Newton iterations with a bound of 0.01 mJ (balance residual 6.2 % of W_c), 3807
+and 41475 without one (8.1 %), with the advance equal to 0.002 mm
+(docs/fe-crawler-investigation.md). The schema's default bound is 0.01 mJ; the `paper`
+scenario lifts it and reports the loss as the run's balance residual, while the vertical
+bristles of `paper-vertical` need it (unbounded, a bristle flipping over under the
+reversed load lost 18 mJ in unresolved steps).
 
 Connector force: the constraint force that the actuated link transmits to the right end's
 subtree (right end, its link and bristle), ``lambda = sum (M a + C v + f_int + f_c - f_ext)``
