@@ -22,6 +22,9 @@ jax.config.update("jax_enable_x64", True)
 #: corner of the section (end faces), not a kink of a bent face: normals are not blended.
 _SHARP_COS = math.cos(math.pi / 4)
 
+#: Round-off allowance on a segment's fan parameter t in [0, 1] (see :func:`_select`).
+_T_EPS = 1e-12
+
 
 def _normals(P, side):
     """Segment normals (n, 2) of the closed polygon P (n + 1 points), the previous segment's
@@ -63,8 +66,12 @@ def _select(P, side, C):
     nA = jnp.where(sharp[:, None], n_seg, nv)
     nB = jnp.where(jnp.roll(sharp, -1)[:, None], n_seg, jnp.roll(nv, -1, axis=0))
     t = _fan(A, B, nA, nB, C)
-    inside = (t >= 0.0) & (t <= 1.0)
-    d = C - (A + t[:, None] * ab)
+    # Inclusive to round-off: a corner on the normal line of a shared vertex has t = 1 on
+    # one segment and t = 0 on the next, and both came out just outside [0, 1] (-1e-17,
+    # 1 + 2e-16); the opposite face's segment, whose normal line (taken both ways by the
+    # fan) also passes through the corner, then won and gave a gap of the wrong sign.
+    inside = (t >= -_T_EPS) & (t <= 1.0 + _T_EPS)
+    d = C - (A + jnp.clip(t, 0.0, 1.0)[:, None] * ab)
     d2 = jnp.where(inside, jnp.sum(d * d, axis=-1), jnp.inf)
     dv = C - A
     dv2 = jnp.where(sharp, jnp.sum(dv * dv, axis=-1), jnp.inf)
