@@ -72,6 +72,11 @@ def main() -> None:
             f"{s['net_advance_mm']:11.3f} {s['work_mJ']:9.3f} "
             f"{s['energy_balance_rel_error']:9.2e}"
         )
+        per = ", ".join(f"{x:.3f}" for x in s["advance_per_cycle_mm"])
+        print(
+            f"     per cycle (mm): {per}; step program loaded or compiled in "
+            f"{s['compile_time_s']:.1f} s"
+        )
         if failed:
             print(f"     FAILED: {failed}")
             break

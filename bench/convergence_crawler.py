@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
+
+from _crawler_rows import run_rows
 
 
 def main() -> None:
@@ -28,10 +29,8 @@ def main() -> None:
     ap.add_argument("--set", dest="sets", action="append", default=[])
     a = ap.parse_args()
 
-    from bristlecrawler.crawler.run import RunOptions, simulate_crawler
-    from bristlecrawler.errors import SolverError
     from bristlecrawler.fe import enable_compilation_cache
-    from bristlecrawler.jobs.simulate import apply_overrides, summarize
+    from bristlecrawler.jobs.simulate import apply_overrides
     from bristlecrawler.scenario.load import load_scenario
 
     enable_compilation_cache()
@@ -53,32 +52,7 @@ def main() -> None:
         f"dt_max {dt:g} s, energy_tol {tol:g} mJ, energy_loss_tol {loss:g} mJ, "
         f"stick_drift {drift:g} mm"
     )
-    head = (
-        f"{'run':<20} {'advance mm':>11} {'d adv mm':>9} {'work mJ':>8} {'d work %':>9} "
-        f"{'balance':>8} {'steps':>6} {'newton':>7} {'wall s':>7}"
-    )
-    print(head)
-    print("-" * len(head))
-    ref = None
-    for label, sets in variants:
-        sc = apply_overrides(base, sets)
-        t0 = time.perf_counter()
-        try:
-            h = simulate_crawler(sc, RunOptions(progress=False))
-        except SolverError as e:
-            print(f"{label:<20} FAILED: {e}")
-            continue
-        wall = time.perf_counter() - t0
-        s = summarize(h, sc)
-        adv, work = s["net_advance_mm"], s["work_mJ"]
-        ref = ref or (adv, work)
-        d_adv = adv - ref[0]
-        d_work = 100 * (work - ref[1]) / abs(ref[1])
-        print(
-            f"{label:<20} {adv:11.4f} {d_adv:+9.4f} {work:8.3f} {d_work:+9.2f} "
-            f"{s['energy_balance_rel_error']:8.2%} {s['steps']:6d} "
-            f"{s['newton_iterations']:7d} {wall:7.0f}"
-        )
+    run_rows(base, variants)
 
 
 if __name__ == "__main__":

@@ -199,3 +199,34 @@ def test_no_energy_created_over_random_loading_paths(path):
         band += 2.0 * STICK_TOL * (0.65 * float(r.p_n)) ** 2 / 2000.0
         assert work >= stored + dissipated - 1e-14 - band
         s_prev, a = s, float(r.anchor)
+
+
+@given(
+    g=st.floats(-1e-3, 1e-3),
+    ratio=st.floats(-3.0, 3.0),
+    a=st.floats(-10, 10),
+    mode=st.sampled_from([STICK, SLIP]),
+)
+def test_frozen_status_takes_its_branch_and_agrees_where_it_is_the_law_s_own(g, ratio, a, mode):
+    """A frozen STICK point keeps its elastic force beyond the cone, a frozen SLIP point
+    takes mu p_N inside it; where the frozen status is the one the return mapping picks,
+    the result is the free one; an open point stays open whatever its frozen status."""
+    p_n = max(-1000.0 * g, 0.0)
+    s = a + ratio * 0.65 * p_n / 2000.0
+    free = step(g, s, a, LAW)
+    frozen = step(g, s, a, LAW, 0.0, mode)
+    if p_n == 0.0:
+        assert int(frozen.state) == OPEN and float(frozen.f_t) == 0.0
+        return
+    assert int(frozen.state) == mode
+    if mode == STICK:
+        assert float(frozen.f_t) == pytest.approx(2000.0 * (s - a), rel=1e-12, abs=1e-15)
+        assert float(frozen.anchor) == a
+    else:
+        assert float(frozen.f_t) == pytest.approx(0.65 * p_n * np.sign(s - a), rel=1e-12)
+    if int(free.state) == mode:
+        for x, y in zip(free, frozen, strict=True):
+            assert float(x) == float(y)
+    # The free status (-1 or OPEN as a mode) is the return mapping itself.
+    for m in (-1, OPEN):
+        assert step(g, s, a, LAW, 0.0, m) == free

@@ -9,6 +9,8 @@ cover), a 0.8 mm stroke in 0.4 s: the same code path as
 compiled adaptive driver, observer, history) at a fraction of the cost.
 """
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -17,8 +19,8 @@ from bristlecrawler.jobs.simulate import apply_overrides
 from bristlecrawler.scenario.load import load_scenario
 
 
-@pytest.fixture(scope="module")
-def run():
+@functools.cache
+def _run(freeze: int):
     sc = apply_overrides(
         load_scenario("paper-vertical"),
         [
@@ -32,9 +34,28 @@ def run():
             "actuation.cycles=1",
             "actuation.settle_time=0.2",
             "solver.energy_loss_tol=1e-2",  # both sides of the step energy check
+            f"solver.freeze_iterations={freeze}",
         ],
     )
     return sc, simulate_crawler(sc, RunOptions(progress=False))
+
+
+# Newton with and without the frozen-status start (solver.freeze_iterations).
+@pytest.fixture(scope="module", params=[0, 3], ids=["free", "frozen-start"])
+def run(request):
+    return _run(request.param)
+
+
+def test_a_frozen_start_converges_to_the_same_motion():
+    """The frozen iterations only choose where Newton starts: every accepted step is
+    converged on the Coulomb law, so the run ends in the same state (to the solver's
+    tolerance: the step sizes may differ)."""
+    (_, a), (_, b) = _run(0), _run(3)
+    assert a.t[-1] == pytest.approx(b.t[-1], abs=1e-12)
+    for x, y in ((a.left, b.left), (a.right, b.right), (a.tip_position, b.tip_position)):
+        np.testing.assert_allclose(x[-1], y[-1], atol=1e-6)
+    fa, fb = a.energies["friction"][-1], b.energies["friction"][-1]
+    assert fa == pytest.approx(fb, rel=1e-4, abs=1e-9)
 
 
 def test_mirror_symmetric_crawler_does_not_advance(run):

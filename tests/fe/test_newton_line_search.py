@@ -129,3 +129,45 @@ def test_predictor_is_newtons_first_iteration():
         _drifting, q0, topo, predict=(t0, t1, t1 - t0), max_iter=1, rtol=1e-12, atol=0.0
     )
     assert int(it) == 1 and int(status) == SUCCESS
+
+
+def _two_laws(q, freeze=False):
+    """R(q) = arctan(q - 0.5) per DOF, and with ``freeze`` another law, arctan(q - 2):
+    a frozen residual whose root is not the free one's."""
+    c = jnp.where(freeze, 2.0, 0.5)
+    return jnp.arctan(q - c), jnp.asarray(1.0)
+
+
+def test_frozen_iterations_never_end_newton_on_the_frozen_root():
+    topo = cantilever().topology
+    q0 = jnp.full(topo.n_red, 1.9)
+    kw = dict(rtol=1e-12, atol=0.0, max_iter=40, monotone=True)
+    q, it, _, _, status = newton(_two_laws, q0, topo, freeze=6, **kw)
+    assert int(status) == SUCCESS
+    # The free root, not the frozen one (both are within a monotone Newton's reach).
+    np.testing.assert_allclose(np.asarray(q), 0.5, atol=1e-10)
+    free = newton(_two_laws, q0, topo, **kw)
+    # The frozen phase ends as soon as it has solved its own problem (its root at 2 is
+    # 0.1 away: a few iterations), well before the 6 allowed, so the frozen start costs
+    # those few iterations and no more.
+    assert int(free[1]) < int(it) < int(free[1]) + 6
+    # Off, the residual is called without the flag: the same iterates as before.
+    np.testing.assert_array_equal(
+        np.asarray(free[0]), np.asarray(newton(lambda q: _two_laws(q), q0, topo, **kw)[0])
+    )
+
+
+def test_a_frozen_limit_of_one_iteration_still_converges_on_the_free_law():
+    topo = cantilever().topology
+    q0 = jnp.zeros(topo.n_red)
+    q, _, _, _, status = newton(
+        _two_laws, q0, topo, rtol=1e-12, atol=0.0, max_iter=40, monotone=True, freeze=1
+    )
+    assert int(status) == SUCCESS
+    np.testing.assert_allclose(np.asarray(q), 0.5, atol=1e-10)
+
+
+@pytest.mark.parametrize("freeze", [-1, 12, 13])
+def test_freeze_outside_zero_to_max_iterations_is_refused(freeze):
+    with pytest.raises(InputError, match="freeze"):
+        Integrator.hht(freeze=freeze, max_iter=12)

@@ -128,10 +128,11 @@ def _face_points(u, nodes, params):
     return attached_points(params.X, u[nodes], params.offset)
 
 
-def _pulled(current, pull, law, drop=None):
+def _pulled(current, pull, law, drop=None, mode=None):
     """Nodal forces of pairs with (gap, current arc, anchor) ``current`` through the VJP
-    ``pull`` of their geometry; pairs flagged in ``drop`` carry none."""
-    fg, fs = generalized_forces(*current, law)
+    ``pull`` of their geometry; pairs flagged in ``drop`` carry none. ``mode``: frozen
+    statuses (:func:`~bristlecrawler.contact.coulomb.return_map`) or None."""
+    fg, fs = generalized_forces(*current, law, mode=mode)
     if drop is not None:
         fg, fs = jnp.where(drop, 0.0, fg), jnp.where(drop, 0.0, fs)
     # The penalty energy depends on s - a: the anchor's material point moves with the
@@ -271,11 +272,14 @@ class FaceCornerContact:
         to_cur = jax.vmap(current_arc, in_axes=(0, 0, 0))
         return g, to_cur(P, params.arc, s), to_cur(P, params.arc, anchor)
 
-    def _force(self, u, C, rho, anchor, params):
+    def _force(self, u, C, rho, anchor, params, mode=None):
         current, pull = jax.vjp(lambda u: self._current_at(u, C, rho, anchor, params), u)
-        return _pulled(current, pull, params.law)
+        return _pulled(current, pull, params.law, mode=mode)
 
-    def residual(self, u, v, t, history, params):
+    #: The residual takes ``freeze`` (:func:`bristlecrawler.fe.newton.newton`).
+    freezes = True
+
+    def residual(self, u, v, t, history, params, freeze=False):
         """Forces of every pair; the derivative (the Newton tangent) is taken through the
         ``tangent_pairs`` pairs of each outline with the smallest gaps only.
 
@@ -285,11 +289,15 @@ class FaceCornerContact:
         stiffness, the residual is still the full one, and Newton converges to the same
         state, more slowly. Linearising every pair (14 per bristle of the paper crawler)
         cost 1.6 ms of a 2.3 ms tangent extraction.
+
+        With ``freeze`` (a bool, traced or not) each closed pair keeps the stick or slip
+        status of the committed history instead of the return mapping's.
         """
         C, rho = self._window(history.k0, params)
+        mode = None if freeze is False else jnp.where(freeze, history.state, -1)
         m = C.shape[1]
         if self.tangent_pairs >= m:
-            return self._force(u, C, rho, history.anchor, params)
+            return self._force(u, C, rho, history.anchor, params, mode)
         u0 = jax.lax.stop_gradient(u)
         # One pass over every pair gives both the gaps that choose the differentiated
         # pairs and the (constant) forces of the others.
@@ -302,8 +310,15 @@ class FaceCornerContact:
             return jnp.take_along_axis(x, idx.reshape(*idx.shape, *([1] * (x.ndim - 2))), 1)
 
         chosen = jnp.zeros(g0.shape, bool).at[jnp.arange(g0.shape[0])[:, None], idx].set(True)
-        near = self._force(u, take(C), take(rho), take(history.anchor), params)
-        rest = _pulled((g0, s0, a0), pull, params.law, drop=chosen)
+        near = self._force(
+            u,
+            take(C),
+            take(rho),
+            take(history.anchor),
+            params,
+            None if mode is None else take(mode),
+        )
+        rest = _pulled((g0, s0, a0), pull, params.law, drop=chosen, mode=mode)
         return near + jax.lax.stop_gradient(rest)
 
     def penetration(self, history, params):

@@ -191,6 +191,7 @@ def return_map(
     anchor: jax.Array,
     law: CoulombLaw,
     lambda_n: jax.Array = 0.0,
+    mode: jax.Array | None = None,
 ) -> CoulombStep:
     """One backward-Euler step of penalty Coulomb friction (see the module docstring).
 
@@ -200,6 +201,11 @@ def return_map(
         anchor: stick anchor from the previous step, mm.
         law: the :class:`CoulombLaw`.
         lambda_n: augmented-Lagrangian normal multiplier, N (0 for pure penalty).
+        mode: optional frozen status per point (int): where it is STICK (SLIP) a closed
+            point takes the stick (slip) branch whatever its trial force; elsewhere
+            (OPEN, or any other value) the return mapping decides. Newton's first
+            iterations of a step use the committed states (:func:`fe.newton.newton`'s
+            ``freeze``); the result is then not Coulomb's law, only a start for it.
 
     An open contact (p_N = 0) moves its anchor to ``s``, so a later touchdown starts in
     stick at the point of the last open step.
@@ -212,6 +218,8 @@ def return_map(
     # the first Newton iterate after an open step) the stick branch would put a spurious
     # tangential spring k_t into the tangent of a point that carries no force.
     sticks = (jnp.abs(f_trial) <= (1.0 - STICK_TOL) * limit) & (p_n > 0.0)
+    if mode is not None:
+        sticks = jnp.where(mode == STICK, p_n > 0.0, jnp.where(mode == SLIP, False, sticks))
     sign = jnp.sign(delta)
     f_t = jnp.where(sticks, f_trial, limit * sign)
     new_anchor = jnp.where(sticks, anchor, s - sign * limit / law.k_t)
@@ -258,12 +266,13 @@ def generalized_forces(
     anchor: jax.Array,
     law: CoulombLaw,
     lambda_n: jax.Array = 0.0,
+    mode: jax.Array | None = None,
 ) -> tuple[jax.Array, jax.Array]:
     """``(dPhi/dg, dPhi/ds) = (-p_N, f_t)``, N, with the full dependence on ``g``.
 
     ``jax.jacfwd`` of this (w.r.t. g and s) is the consistent, non-symmetric tangent: in
     stick ``[[k_n, 0], [0, k_t]]``, in slip ``[[k_n, 0], [-mu k_n sign(delta), 0]]`` (for
-    a closed contact).
+    a closed contact). ``mode``: frozen statuses, see :func:`return_map`.
     """
-    step = return_map(g, s, anchor, law, lambda_n)
+    step = return_map(g, s, anchor, law, lambda_n, mode)
     return -step.p_n, step.f_t

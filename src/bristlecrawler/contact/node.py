@@ -46,14 +46,17 @@ def node_potential(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0
     return incremental_potential(g, s, anchor, law, lambda_n)
 
 
-def node_force(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0) -> jax.Array:
+def node_force(
+    x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0, mode=None
+) -> jax.Array:
     """Contact contribution to the internal-force vector of a node, ``dPhi/dx``, N, (2,).
 
     Exact for the non-associative law, so ``jax.jacfwd`` of it w.r.t. ``x`` is the
-    consistent non-symmetric tangent (N/mm).
+    consistent non-symmetric tangent (N/mm). ``mode``: a frozen status
+    (:func:`~bristlecrawler.contact.coulomb.return_map`).
     """
     pr = project(substrate, x)
-    fg, fs = generalized_forces(pr.gap - radius, pr.arc_length, anchor, law, lambda_n)
+    fg, fs = generalized_forces(pr.gap - radius, pr.arc_length, anchor, law, lambda_n, mode)
     return fg * pr.normal + fs * pr.arc_gradient  # grad g = n, grad s in closed form
 
 

@@ -35,7 +35,7 @@ def _is_zero(t) -> bool:
 
 
 @jax.custom_jvp
-def point_force(x, anchor, substrate, law, radius):
+def point_force(x, anchor, substrate, law, radius, mode=None):
     """:func:`~bristlecrawler.contact.node.node_force` of one point (lambda_n = 0), N (2,),
     with a JVP that applies the 2 x 2 tangent ``K = d f / d x``.
 
@@ -44,18 +44,20 @@ def point_force(x, anchor, substrate, law, radius):
     linear map (:func:`bristlecrawler.fe.banded.extract`). Autodiff through ``node_force``
     would push each seed through the second derivatives of the projection; with this
     rule ``K`` is computed once from the primal point and each seed costs a 2 x 2 product.
+    ``mode``: a frozen status (:func:`~bristlecrawler.contact.coulomb.return_map`), None
+    for the return mapping's own.
     """
-    return node_force(x, anchor, substrate, law, 0.0, radius)
+    return node_force(x, anchor, substrate, law, 0.0, radius, mode)
 
 
 @functools.partial(point_force.defjvp, symbolic_zeros=True)
 def _point_force_jvp(primals, tangents):
-    x, anchor, substrate, law, radius = primals
-    dx, *others = tangents
-    f = point_force(x, anchor, substrate, law, radius)
+    x, anchor, substrate, law, radius, mode = primals
+    dx, *others = tangents[:5]  # mode is an integer: no tangent
+    f = point_force(x, anchor, substrate, law, radius, mode)
     df = jnp.zeros_like(f)
     if not _is_zero(dx):
-        K = jax.jacfwd(node_force)(x, anchor, substrate, law, 0.0, radius)
+        K = jax.jacfwd(node_force)(x, anchor, substrate, law, 0.0, radius, mode)
         df = df + K @ dx
     if not _is_zero(others):
         # derivatives w.r.t. the parameters (design sensitivities): plain autodiff
@@ -66,9 +68,13 @@ def _point_force_jvp(primals, tangents):
                 tan,
                 is_leaf=lambda z: isinstance(z, SymbolicZero),
             )
-            for prim, tan in zip(primals[1:], others, strict=True)
+            for prim, tan in zip(primals[1:5], others, strict=True)
         )
-        df = df + jax.jvp(lambda a, s, w, r: node_force(x, a, s, w, 0.0, r), primals[1:], rest)[1]
+
+        def nf(a, s, w, r):
+            return node_force(x, a, s, w, 0.0, r, mode)
+
+        df = df + jax.jvp(nf, primals[1:5], rest)[1]
     return f, df
 
 
@@ -173,29 +179,38 @@ class SubstrateContact:
     def _x(self, u, params):
         return attached_points(params.X, u[jnp.asarray(self.nodes)], params.offset)
 
-    def residual(self, u, v, t, history, params):
-        x, pull = jax.vjp(lambda u: self._x(u, params), u)
-        return pull(self.point_forces(x, history.anchor, params))[0]
+    #: The residual takes ``freeze`` (:func:`bristlecrawler.fe.newton.newton`).
+    freezes = True
 
-    def point_forces(self, x, anchor, params):
+    def residual(self, u, v, t, history, params, freeze=False):
+        """Contact forces on the nodes (internal-force sign, full (n_nodes, 3)). With
+        ``freeze`` (a bool, traced or not) each closed point keeps the stick or slip
+        status of the committed history instead of the return mapping's."""
+        x, pull = jax.vjp(lambda u: self._x(u, params), u)
+        mode = None if freeze is False else jnp.where(freeze, history.state, -1)
+        return pull(self.point_forces(x, history.anchor, params, mode))[0]
+
+    def point_forces(self, x, anchor, params, mode=None):
         """Contact forces (N, (k, 2)) on the points at ``x`` (mm, (k, 2)) with stick anchors
         ``anchor``; with ``active``, through the broad phase (the same forces while
-        :meth:`excess` is 0)."""
+        :meth:`excess` is 0). ``mode``: frozen statuses (k,) or None."""
 
-        def forces(x, anchor, radius):
-            return jax.vmap(point_force, in_axes=(0, 0, None, None, 0))(
-                x, anchor, params.substrate, params.law, radius
+        def forces(x, anchor, radius, mode):
+            axes = (0, 0, None, None, 0, None if mode is None else 0)
+            return jax.vmap(point_force, in_axes=axes)(
+                x, anchor, params.substrate, params.law, radius, mode
             )
 
         k = x.shape[0]
         if self.active is None or self.active >= k:
-            return forces(x, anchor, params.radius)
+            return forces(x, anchor, params.radius, mode)
         reach = jax.lax.stop_gradient(x[:, 1] - params.radius)
         _, sel = jax.lax.top_k(-reach, self.active)
         # Gather and scatter by a one-hot matrix (active, k): cheap at these sizes, and it
         # keeps gather/scatter out of the linearised program.
         P = (sel[:, None] == jnp.arange(k)[None, :]).astype(x.dtype)
-        return P.T @ forces(P @ x, P @ anchor, P @ params.radius)
+        m = None if mode is None else mode[sel]
+        return P.T @ forces(P @ x, P @ anchor, P @ params.radius, m)
 
     def excess(self, u, params):
         """How many more points reach below the top of the profile than the broad phase

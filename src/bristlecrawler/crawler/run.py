@@ -185,6 +185,7 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         rtol=sc.solver.tolerance,
         max_iter=sc.solver.max_iterations,
         stall=sc.solver.stall_iterations,
+        freeze=sc.solver.freeze_iterations,
         line_search=sc.solver.line_search,
         predictor=sc.solver.predictor,
         max_penetration=sc.contact.max_penetration,

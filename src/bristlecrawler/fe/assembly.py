@@ -111,9 +111,16 @@ def potential_energy(u, t, lam, params, topo):
     return internal_energy(u, params, topo) - jnp.sum(external_force(t, lam, params, topo) * u)
 
 
-def terms_residual(u, v, t, history, params, terms):
-    """Sum of the extra terms' residual contributions (full, internal-force sign)."""
+def terms_residual(u, v, t, history, params, terms, freeze=False):
+    """Sum of the extra terms' residual contributions (full, internal-force sign).
+
+    ``freeze`` (bool, traced or not) goes to the terms that declare ``freezes = True``
+    (contact: closed points keep their committed stick/slip status, see
+    :func:`bristlecrawler.fe.newton.newton`); the others ignore it."""
     out = jnp.zeros_like(u)
     for term, p, h in zip(terms, params.extra, history, strict=True):
-        out = out + term.residual(u, v, t, h, p)
+        if freeze is not False and getattr(term, "freezes", False):
+            out = out + term.residual(u, v, t, h, p, freeze=freeze)
+        else:
+            out = out + term.residual(u, v, t, h, p)
     return out

@@ -83,6 +83,10 @@ class Integrator:
     stall: a step whose Newton goes this many iterations without halving its residual
     fails with status STALLED, so an adaptive driver cuts it before ``max_iter`` (0: off;
     see :func:`newton.newton`).
+    freeze: Newton's first ``freeze`` iterations of a step (the predictor included) keep
+    every closed contact point in the stick or slip status of the last converged step;
+    the later ones use the return mapping, and only they can converge (0: off; see
+    :func:`newton.newton`). Must be below ``max_iter``.
     """
 
     alpha: float = -0.05
@@ -96,8 +100,14 @@ class Integrator:
     max_penetration: float = math.inf
     max_rotation: float = 1.0
     stall: int = 0
+    freeze: int = 0
 
     def __post_init__(self) -> None:
+        if not (isinstance(self.freeze, int) and 0 <= self.freeze < self.max_iter):
+            raise InputError(
+                f"freeze must be a whole number in [0, max_iter = {self.max_iter}), "
+                f"got {self.freeze!r}"
+            )
         if not (isinstance(self.stall, int) and self.stall >= 0):
             raise InputError(f"stall must be a whole number >= 0, got {self.stall!r}")
         if self.line_search not in ("growth", "monotone"):
@@ -159,12 +169,13 @@ class Rayleigh:
         return model.with_params(damping=jnp.asarray([self.a0, self.a1], jnp.float64))
 
 
-def _force(u, v, t, history, params, topo, terms):
-    """r = C v + f_int + terms - f_ext (full) and its force scale."""
+def _force(u, v, t, history, params, topo, terms, freeze=False):
+    """r = C v + f_int + terms - f_ext (full) and its force scale (``freeze``: see
+    :func:`assembly.terms_residual`)."""
     f_int, Kv = jax.jvp(lambda u: assembly.internal_force(u, params, topo), (u,), (v,))
     Mv = assembly.mass_times(v, params, topo)
     damp = params.damping[0] * Mv + params.damping[1] * Kv
-    f_t = assembly.terms_residual(u, v, t, history, params, terms)
+    f_t = assembly.terms_residual(u, v, t, history, params, terms, freeze)
     f_ext = assembly.external_force(t, 1.0, params, topo)
     scale = sum(jnp.linalg.norm(x) for x in (f_int, damp, f_t, f_ext))
     return damp + f_int + f_t - f_ext, scale
@@ -193,9 +204,9 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             v = v0 + dt * ((1.0 - ga) * a0 + ga * a)
             return u, v, a
 
-        def residual(q, tc=t1):
+        def residual(q, tc=t1, freeze=False):
             u, v, a = kin(q, tc)
-            r1, s1 = _force(u, v, t1, state.history, params, topo, terms)
+            r1, s1 = _force(u, v, t1, state.history, params, topo, terms, freeze)
             Ma = assembly.mass_times(a, params, topo)
             full = Ma + (1.0 + al) * r1 - al * r0
             (R,) = jax.vjp(lambda q: assembly.expand(q, tc, 1.0, params, topo), q)[1](full)
@@ -229,6 +240,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             monotone=ig.line_search == "monotone",
             stall=ig.stall,
             predict=predict,
+            freeze=ig.freeze,
         )
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)

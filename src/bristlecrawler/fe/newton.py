@@ -36,6 +36,7 @@ def newton(
     monotone=False,
     stall=0,
     predict=None,
+    freeze=0,
 ):
     """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
@@ -65,18 +66,31 @@ def newton(
     (no line search; no correction where it is not finite) and counted as an iteration.
     It runs in the same loop body as the corrections, so the compiled program holds one
     linearised residual, not two.
+
+    ``freeze`` (static, 0: off): ``residual`` also takes a bool ``freeze`` (after ``tc``
+    when there is one). Newton starts with it True: a contact residual then keeps each
+    closed point in the stick or slip status it was committed with (an active-set
+    start). It turns False for good once that frozen problem has converged or
+    ``freeze`` iterations have passed; the iterate is then evaluated again with it
+    False, and only such iterates can converge. A point whose status flips near the
+    step's solution makes full Newton cycle between the branches (the stick band is far
+    narrower than a correction); with the statuses frozen the first iterations solve a
+    smooth problem, and the free ones start next to the solution when the statuses hold.
     """
     if predict is None:
-        res_t = lambda q, tc: residual(q)  # noqa: E731
         tc0 = tc1 = dt = jnp.zeros(())
     else:
-        res_t = residual
         tc0, tc1, dt = predict
+
+    def res_t(q, tc, fz):
+        if predict is None:
+            return residual(q) if freeze == 0 else residual(q, freeze=fz)
+        return residual(q, tc) if freeze == 0 else residual(q, tc, fz)
 
     def first(it):
         return (it == 0) if predict is not None else jnp.asarray(False)
 
-    R0, F0 = res_t(q0, tc0)
+    R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
 
     # The stalled-iterate test must not accept a run-away iterate, whose corrections are
     # also small relative to |q| (full Newton steps on arctan(q - 3) reach |q| ~ 1e292 and
@@ -91,21 +105,24 @@ def newton(
     def stalled(it, it_ref):
         return (it - it_ref >= stall) if stall > 0 else jnp.asarray(False)
 
+    def done(q, R, F, dx, fz):
+        return converged(q, R, F, dx) & ~fz
+
     def cond(c):
-        q, R, F, it, dx, _, it_ref = c
+        q, R, F, it, dx, _, it_ref, fz = c
         finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
-        solve = ~converged(q, R, F, dx) & finite & ~stalled(it, it_ref)
+        solve = ~done(q, R, F, dx, fz) & finite & ~stalled(it, it_ref)
         return (it < max_iter) & (first(it) | solve)
 
     def body(c):
-        q, R, F, it, _, ref, it_ref = c
+        q, R, F, it, _, ref, it_ref, fz = c
         pred = first(it)
         if predict is None:
-            _, J = banded.extract(lambda q: res_t(q, tc1)[0], q, topo)
+            _, J = banded.extract(lambda q: res_t(q, tc1, fz)[0], q, topo)
             dq = -banded.solve(J, R, topo)
         else:
             tc = jnp.where(pred, tc0, tc1)
-            _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc)[0], q, topo, tc, dt)
+            _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc, fz)[0], q, topo, tc, dt)
             dq = -banded.solve(J, R + jnp.where(pred, Rt, 0.0), topo)
             dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
         if monotone:
@@ -121,7 +138,7 @@ def newton(
         def ls_body(ls):
             s, _, _, k = ls
             s = 0.5 * s
-            Rn, Fn = res_t(q + s * dq, tc1)
+            Rn, Fn = res_t(q + s * dq, tc1, fz)
             return s, Rn, Fn, k + 1
 
         # k = -1: the full step is tried in the loop too (one residual in the program).
@@ -135,12 +152,29 @@ def newton(
         # the predictor's move; the stall count starts at its residual).
         dx = jnp.where(pred, jnp.inf, jnp.linalg.norm(s * dq))
         ref, it_ref = jnp.where(pred, rn, ref), jnp.where(pred, it + 1, it_ref)
-        return q + s * dq, Rn, Fn, it + 1, dx, ref, it_ref
+        qn = q + s * dq
+        if freeze > 0:  # static
+            # Unfreeze once the frozen problem is solved (not on the predictor's move)
+            # or after `freeze` iterations, and evaluate the iterate with the free law.
+            solved = ~pred & converged(qn, Rn, Fn, dx)
+            unfreeze = fz & (solved | (it + 1 >= freeze))
+
+            def free(_):
+                return res_t(qn, tc1, jnp.asarray(False))
+
+            Rn, Fn = jax.lax.cond(unfreeze, free, lambda _: (Rn, Fn), None)
+            # The free residual starts afresh: no stalled-iterate test on this move.
+            dx = jnp.where(unfreeze, jnp.inf, dx)
+            ref = jnp.where(unfreeze, jnp.linalg.norm(Rn), ref)
+            it_ref = jnp.where(unfreeze, it + 1, it_ref)
+            fz = fz & ~unfreeze
+        return qn, Rn, Fn, it + 1, dx, ref, it_ref, fz
 
     zero = jnp.asarray(0)
-    init = (q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero)
-    q, R, F, it, dx, _, it_ref = jax.lax.while_loop(cond, body, init)
+    fz0 = jnp.asarray(freeze > 0)
+    init = (q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero, fz0)
+    q, R, F, it, dx, _, it_ref, fz = jax.lax.while_loop(cond, body, init)
     finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
     failed = jnp.where(stalled(it, it_ref), STALLED, MAX_ITERATIONS)
-    status = jnp.where(~finite, NONFINITE, jnp.where(converged(q, R, F, dx), SUCCESS, failed))
+    status = jnp.where(~finite, NONFINITE, jnp.where(done(q, R, F, dx, fz), SUCCESS, failed))
     return q, it, jnp.linalg.norm(R), F, status

@@ -102,6 +102,15 @@ class SolverConfig(_Section):
         description="cut a step whose Newton goes this many iterations without halving its "
         "residual (0: off, only max_iterations)",
     )
+    freeze_iterations: int = Field(
+        0,
+        ge=0,
+        le=999,
+        description="Newton iterations of each step that keep every closed contact point in "
+        "its last converged stick/slip status, ended early once that problem is solved; "
+        "only later iterations, with the Coulomb return mapping, can converge "
+        "(0: off). Must be below max_iterations",
+    )
     line_search: Literal["growth", "monotone"] = Field(
         "monotone",
         description="Newton line search: halve a correction until the residual decreases "
@@ -228,4 +237,9 @@ class Scenario(_Section):
             raise ValueError("bristle.thickness_tip is implausibly larger than the clamp's")
         if self.solver.dt_min >= self.solver.dt_max:
             raise ValueError("solver.dt_min must be smaller than solver.dt_max")
+        if self.solver.freeze_iterations >= self.solver.max_iterations:
+            raise ValueError(
+                f"solver.freeze_iterations ({self.solver.freeze_iterations}) must be smaller "
+                f"than solver.max_iterations ({self.solver.max_iterations})"
+            )
         return self
