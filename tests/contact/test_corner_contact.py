@@ -119,6 +119,37 @@ def test_gap_and_arc_are_continuous_around_a_bent_outline():
         assert np.all(np.diff(s) > 0)
 
 
+@pytest.mark.parametrize("depth", [-0.01, -1e-4])
+def test_gap_gradient_is_continuous_across_an_outline_vertex(depth):
+    """The gap's derivative with respect to the outline points (the normal force's
+    distribution on the nodes) and to the corner (its direction on the corner) is the
+    same on both sides of a vertex of a bent face, up to terms of the order of the step.
+    With the fan parameter t differentiated, dg/dt = -AB . n(t) added a force along the
+    face of about (half the vertex's turn) x p_N, with opposite signs on the two sides."""
+    k = 9
+    x = np.linspace(0.0, 4.0, k)
+    axis = np.stack([x, 0.15 * (x - 2.0) ** 2], axis=1)
+    tang = np.gradient(axis, axis=0)
+    tang /= np.linalg.norm(tang, axis=1)[:, None]
+    nrm = np.stack([-tang[:, 1], tang[:, 0]], axis=1)
+    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
+    seg = np.diff(P, axis=0)
+    arc = jnp.asarray(np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))]))
+    side = np.sign(0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1]))
+    grad = jax.jit(jax.grad(lambda P, C: _pair(P, arc, side, C, 0.0)[0], argnums=(0, 1)))
+    jumps = []
+    for v in (2, 3, 6):  # smooth vertices of the upper (+n) face, turns of 8-17 degrees
+        n_v = nrm[v] / np.linalg.norm(nrm[v])
+        t_v = np.array([n_v[1], -n_v[0]])
+        C0 = P[v] + depth * n_v  # on the vertex's normal line, inside by |depth|
+        sides = [grad(jnp.asarray(P), jnp.asarray(C0 + e * t_v)) for e in (-1e-7, 1e-7)]
+        gP = [np.asarray(g[0]) for g in sides]
+        gC = [np.asarray(g[1]) for g in sides]
+        jumps.append(max(np.abs(gP[0] - gP[1]).max(), np.abs(gC[0] - gC[1]).max()))
+        np.testing.assert_allclose(gC[0], n_v, atol=2e-3)  # along the vertex normal
+    assert max(jumps) < 1e-5
+
+
 def _propped_cantilever(n_el, a, P, law_load):
     """Horizontal cantilever (clamp at x = 0) whose lower face rests on the right edge of a
     1 mm land at x = a; tip load P downwards. Only corner contact, frictionless."""

@@ -87,6 +87,39 @@ def _select(P, side, C):
     return i, k, m, found, seg_wins, vsign
 
 
+def _gap_at(A, B, nA, nB, C, t):
+    """Distance (mm) from C to the point at t on segment AB along the normal interpolated
+    there (positive on the side the normals point to)."""
+    x = A + t * (B - A)
+    nt = nA + t * (nB - nA)
+    nt = nt / jnp.sqrt(jnp.maximum(jnp.sum(nt * nt), 1e-300))
+    return jnp.dot(C - x, nt)
+
+
+@jax.custom_jvp
+def _held_gap(A, B, nA, nB, C, t):
+    """:func:`_gap_at`, whose first derivatives hold the point t fixed.
+
+    The gap's value is the distance along the interpolated normal at the fan root t; its
+    derivatives are taken with t held: the normal force acts along n(t) on the corner
+    and through the shape functions on the segment's ends. With t varying, dg/dt =
+    -AB . n(t) is not zero (an interpolated normal is not normal to its segment), and
+    the force got a component along the face of about p_N times the half turn of the
+    outline at a vertex, with opposite signs on the two sides: the nodal forces jumped
+    when the closest point crossed a vertex (0.018 N at p_N = 0.34 N on the vertical
+    crawler), and a corner stuck on a vertex left Newton no root at any step size
+    (docs/fe-crawler-investigation.md). The rule is itself differentiated with t(P, C)
+    varying, so the Newton tangent (a derivative of these forces) stays exact.
+    """
+    return _gap_at(A, B, nA, nB, C, t)
+
+
+@_held_gap.defjvp
+def _held_gap_jvp(primals, tangents):
+    *args, t = primals
+    return jax.jvp(lambda *a: _gap_at(*a, t), tuple(args), tuple(tangents[:-1]))
+
+
 def _pair(P, arc, side, C, rho):
     """Gap (mm) and outline arc coordinate (mm) of a corner disc (C, rho) against the
     closed polygon P (first point repeated at the end), with interpolated normals.
@@ -141,10 +174,7 @@ def _pair(P, arc, side, C, rho):
     nB = jnp.where(sharp_j, n_loc[1], blend(n_loc[1], n_loc[2]))
     A, B = Q[1], Q[2]
     t = _fan(A, B, nA, nB, C)
-    x = A + t * (B - A)
-    nt = nA + t * (nB - nA)
-    nt = nt / jnp.sqrt(jnp.maximum(jnp.sum(nt * nt), 1e-300))
-    g_seg = jnp.dot(C - x, nt)
+    g_seg = _held_gap(A, B, nA, nB, C, t)
     s_seg = arc[i] + t * (arc[i + 1] - arc[i])
     # Sharp vertex k: distance, signed by the pseudo-normal.
     dv = C - P[k]
