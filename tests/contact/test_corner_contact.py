@@ -32,17 +32,23 @@ def test_convex_corners_of_grooves_are_the_land_edges():
     np.testing.assert_allclose(c[:, 1], -0.1)
 
 
+def _outline(axis, nrm):
+    """Closed outline 0.5 mm thick about ``axis`` points (k, 2) with normals ``nrm``:
+    points, reference arc and orientation side."""
+    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
+    seg = np.diff(P, axis=0)
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
+    area = 0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1])
+    return P, arc, np.sign(area)
+
+
 def _strip(angle, side):
     """Closed outline of a straight strip 3 mm long, 0.5 mm thick, axis through (0.3,
     -0.2) along ``angle``; the 'face' is the one on the ``side`` of the axis."""
     e = np.array([math.cos(angle), math.sin(angle)])
     nrm = side * np.array([-e[1], e[0]])
     axis = np.array([k * 0.75 * e for k in range(5)]) + np.array([0.3, -0.2])
-    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
-    seg = np.diff(P, axis=0)
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
-    area = 0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1])
-    return P, arc, np.sign(area), axis, e, nrm
+    return (*_outline(axis, nrm), axis, e, nrm)
 
 
 @settings(max_examples=60, deadline=None)
@@ -87,20 +93,24 @@ def test_corner_beyond_the_end_of_a_strip_is_outside(angle, r, phi):
             assert float(g) == pytest.approx(r, abs=1e-12)
 
 
+def _bent_strip():
+    """Closed outline of a bent strip 0.5 mm thick (upper face concave) over 9 axis points:
+    points P, reference arc, orientation side, and the axis normals (9, 2). As built, the
+    -n face takes the normals in axis order (not reversed) and the closing stretch has a
+    point per axis normal: the tests use the +n face only."""
+    x = np.linspace(0.0, 4.0, 9)
+    axis = np.stack([x, 0.15 * (x - 2.0) ** 2], axis=1)
+    tang = np.gradient(axis, axis=0)
+    tang /= np.linalg.norm(tang, axis=1)[:, None]
+    nrm = np.stack([-tang[:, 1], tang[:, 0]], axis=1)
+    return (*_outline(axis, nrm), nrm)
+
+
 def test_gap_and_arc_are_continuous_around_a_bent_outline():
     """A corner moved along a path past the vertices of a bent (kinked) strip, in contact
     depth: gap and arc coordinate change by at most a few times the path step between
     samples (no jumps at the vertices, on the concave side included)."""
-    k = 9
-    x = np.linspace(0.0, 4.0, k)
-    axis = np.stack([x, 0.15 * (x - 2.0) ** 2], axis=1)  # bent: upper face concave
-    tang = np.gradient(axis, axis=0)
-    tang /= np.linalg.norm(tang, axis=1)[:, None]
-    nrm = np.stack([-tang[:, 1], tang[:, 0]], axis=1)
-    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
-    seg = np.diff(P, axis=0)
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
-    area = 0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1])
+    P, arc, side, _ = _bent_strip()
     xs = np.linspace(0.6, 3.4, 2001)
     pairs = jax.jit(jax.vmap(_pair, in_axes=(None, None, None, 0, None)))
     # inside, on, outside the concave upper face (a plain closest-point projection would
@@ -109,9 +119,7 @@ def test_gap_and_arc_are_continuous_around_a_bent_outline():
         ys = 0.15 * (xs - 2.0) ** 2 + 0.25 + depth
         g, s = (
             np.asarray(v)
-            for v in pairs(
-                jnp.asarray(P), jnp.asarray(arc), np.sign(area), jnp.stack([xs, ys], axis=1), 0.0
-            )
+            for v in pairs(jnp.asarray(P), jnp.asarray(arc), side, jnp.stack([xs, ys], axis=1), 0.0)
         )
         step = np.hypot(np.diff(xs), np.diff(ys)).max()
         assert np.abs(np.diff(g)).max() < 0.2 * step
@@ -126,16 +134,8 @@ def test_gap_gradient_is_continuous_across_an_outline_vertex(depth):
     same on both sides of a vertex of a bent face, up to terms of the order of the step.
     With the fan parameter t differentiated, dg/dt = -AB . n(t) added a force along the
     face of about (half the vertex's turn) x p_N, with opposite signs on the two sides."""
-    k = 9
-    x = np.linspace(0.0, 4.0, k)
-    axis = np.stack([x, 0.15 * (x - 2.0) ** 2], axis=1)
-    tang = np.gradient(axis, axis=0)
-    tang /= np.linalg.norm(tang, axis=1)[:, None]
-    nrm = np.stack([-tang[:, 1], tang[:, 0]], axis=1)
-    P = np.concatenate([axis + 0.25 * nrm, axis[::-1] - 0.25 * nrm, axis[:1] + 0.25 * nrm])
-    seg = np.diff(P, axis=0)
-    arc = jnp.asarray(np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))]))
-    side = np.sign(0.5 * np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1]))
+    P, arc, side, nrm = _bent_strip()
+    arc = jnp.asarray(arc)
     grad = jax.jit(jax.grad(lambda P, C: _pair(P, arc, side, C, 0.0)[0], argnums=(0, 1)))
     jumps = []
     for v in (2, 3, 6):  # smooth vertices of the upper (+n) face, turns of 8-17 degrees

@@ -48,7 +48,12 @@ import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler.contact._pytree import pytree_dataclass
-from bristlecrawler.contact.coulomb import CoulombLaw, generalized_forces, return_map
+from bristlecrawler.contact.coulomb import (
+    CoulombLaw,
+    frozen_status,
+    generalized_forces,
+    return_map,
+)
 from bristlecrawler.contact.outline import _pair, current_arc, reference_arc
 from bristlecrawler.contact.profile import _chain
 from bristlecrawler.contact.term import attached_points
@@ -294,7 +299,7 @@ class FaceCornerContact:
         status of the committed history instead of the return mapping's.
         """
         C, rho = self._window(history.k0, params)
-        mode = None if freeze is False else jnp.where(freeze, history.state, -1)
+        mode = frozen_status(history.state, freeze)
         m = C.shape[1]
         if self.tangent_pairs >= m:
             return self._force(u, C, rho, history.anchor, params, mode)

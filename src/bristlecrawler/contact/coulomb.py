@@ -185,6 +185,16 @@ def friction_potential(delta: jax.Array, limit: jax.Array, k_t: jax.Array) -> ja
     return jnp.where(ad <= (1.0 - STICK_TOL) * d_c, 0.5 * k_t * delta**2, limit * (ad - 0.5 * d_c))
 
 
+def frozen_status(state: jax.Array, freeze) -> jax.Array | None:
+    """The ``mode`` argument of :func:`return_map` for a contact residual evaluated with
+    ``freeze`` (bool, traced or not; :func:`bristlecrawler.fe.newton.newton`): the
+    committed ``state`` where it is True, the return mapping's own (-1) where not, and
+    None (no selection in the program) when it is the Python constant False."""
+    if freeze is False:
+        return None
+    return jnp.where(freeze, state, -1)
+
+
 def return_map(
     g: jax.Array,
     s: jax.Array,

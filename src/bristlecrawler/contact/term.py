@@ -21,7 +21,7 @@ import numpy as np
 from jax.custom_derivatives import SymbolicZero
 
 from bristlecrawler.contact._pytree import pytree_dataclass
-from bristlecrawler.contact.coulomb import CoulombLaw
+from bristlecrawler.contact.coulomb import CoulombLaw, frozen_status
 from bristlecrawler.contact.node import node_force, node_step
 from bristlecrawler.contact.profile import project
 from bristlecrawler.errors import InputError
@@ -187,7 +187,7 @@ class SubstrateContact:
         ``freeze`` (a bool, traced or not) each closed point keeps the stick or slip
         status of the committed history instead of the return mapping's."""
         x, pull = jax.vjp(lambda u: self._x(u, params), u)
-        mode = None if freeze is False else jnp.where(freeze, history.state, -1)
+        mode = frozen_status(history.state, freeze)
         return pull(self.point_forces(x, history.anchor, params, mode))[0]
 
     def point_forces(self, x, anchor, params, mode=None):
