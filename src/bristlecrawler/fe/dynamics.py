@@ -272,9 +272,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
         new = DynState(t1, q1, u1, v1, a1, h1)
         good = status == SUCCESS
         out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
-        info = StepInfo(
-            status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt, chords
-        )
+        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt, chords)
         return out, info
 
     return step
