@@ -26,7 +26,6 @@ from .kinematic import kinematic_history
         (["paper", "--set", "bristle.thickness_tip=-1"], "thickness_tip"),
         (["paper", "--set", "substrate.mu=-0.1"], "mu"),
         (["paper", "--set", "solver.freeze_iterations=25"], "freeze_iterations"),
-        (["paper", "--set", "solver.chord=1"], "chord"),
         (["paper", "--set", "nonsense"], "section.key=value"),
         (["paper", "--set", "bristle.colour=3"], "colour"),
         (["paper", "--cycles", "0"], "cycles"),

@@ -179,7 +179,6 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
     records: list = []
     iterations = 0
     rejected = 0
-    chords = 0
 
     ig = fe.Integrator.hht(
         sc.solver.hht_alpha,
@@ -187,7 +186,6 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         max_iter=sc.solver.max_iterations,
         stall=sc.solver.stall_iterations,
         freeze=sc.solver.freeze_iterations,
-        chord=sc.solver.chord,
         line_search=sc.solver.line_search,
         predictor=sc.solver.predictor,
         max_penetration=sc.contact.max_penetration,
@@ -204,15 +202,14 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
 
     def advance(carry, params, t_stop, dt_max, where, driver=driver):
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""
-        nonlocal iterations, rejected, chords
+        nonlocal iterations, rejected
         while float(carry.state.t) < t_stop - 1e-9:
-            it0, rej0, ch0 = int(carry.iterations), int(carry.rejected), int(carry.chords)
+            it0, rej0 = int(carry.iterations), int(carry.rejected)
             carry, buf, k, failed = driver(carry, params, t_stop, sc.solver.dt_min, dt_max)
             buf, k = jax.device_get(buf), int(k)
             records.extend(jax.tree.map(lambda b, i=i: b[i], buf) for i in range(k))
             iterations += int(carry.iterations) - it0
             rejected += int(carry.rejected) - rej0
-            chords += int(carry.chords) - ch0
             if bool(failed):
                 info = carry.info
                 msg = fe.message(info, f"{where}, step {len(records)}")
@@ -298,15 +295,12 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
                     rejected,
                     settle,
                     compile_s,
-                    chords,
                 )
                 err.state = e.carry.state
                 raise err from None
             t = float(carry.state.t)
     wall = time.perf_counter() - wall0
-    return _history(
-        cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s, chords
-    )
+    return _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s)
 
 
 def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
@@ -332,9 +326,7 @@ def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
     }
 
 
-def _history(
-    cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s, chords=0
-):
+def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s):
     t = np.array([float(r["t"]) for r in records])
     x = np.stack([np.asarray(r["x"]) for r in records])
     fc = np.array([float(r["fc"]) for r in records])
@@ -371,7 +363,6 @@ def _history(
             "steps": len(records) - 1,
             "newton_iterations": iterations,
             "rejected_steps": rejected,
-            "chord_corrections": chords,
             "first_frequency_hz": omega1 / (2 * math.pi),
             "rayleigh_a0": damping.a0,
             "rayleigh_a1": damping.a1,

@@ -27,9 +27,8 @@ from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, STEP_TOO_SMAL
 class DriverCarry:
     """State of the compiled adaptive driver between chunks: the dynamic state, the next
     step size (s), counters (accepted steps, rejected steps, Newton iterations of accepted
-    and rejected steps), the last step's info, ``cause``: the status of the last
-    attempt itself (which failure made a STEP_TOO_SMALL), and ``chords``: the Newton
-    corrections taken with an earlier tangent (``Integrator.chord``), all attempts."""
+    and rejected steps), the last step's info, and ``cause``: the status of the last
+    attempt itself (which failure made a STEP_TOO_SMALL)."""
 
     state: DynState
     dt: Any
@@ -38,7 +37,6 @@ class DriverCarry:
     iterations: Any
     info: StepInfo
     cause: Any
-    chords: Any
 
 
 @functools.lru_cache(maxsize=32)
@@ -115,7 +113,6 @@ def make_driver(
                 iterations=carry.iterations + info.iterations,
                 info=info,
                 cause=cause,
-                chords=carry.chords + info.chords,
             )
             return nxt, buf, k + good, failed, last
 
@@ -158,8 +155,8 @@ def make_host_driver(
         eps = 1e-12 * max(1.0, abs(t_end))
         rows, failed = [], False
         state, dt = carry.state, float(carry.dt)
-        accepted, rejected, iterations, chords = (
-            int(x) for x in (carry.accepted, carry.rejected, carry.iterations, carry.chords)
+        accepted, rejected, iterations = (
+            int(x) for x in (carry.accepted, carry.rejected, carry.iterations)
         )
         info, cause = carry.info, carry.cause
         last = obs(state, params) if accept is not None else None
@@ -178,7 +175,6 @@ def make_host_driver(
                 easy = easy and ratio * grow**3 <= 1.0
             good = status == SUCCESS
             iterations += its
-            chords += int(info.chords)
             cause = status
             if good:
                 state = new
@@ -201,7 +197,6 @@ def make_host_driver(
             iterations=jnp.asarray(iterations),
             info=info,
             cause=jnp.asarray(cause),
-            chords=jnp.asarray(chords),
         )
         # Stacked on the host: jnp.stack would compile a program for every chunk length.
         buf = jax.tree.map(lambda *r: np.stack(r), *jax.device_get(rows)) if rows else None
@@ -221,6 +216,5 @@ def driver_start(state: DynState, dt: float) -> DriverCarry:
         state.t,
         jnp.asarray(float(dt)),
         jnp.asarray(1.0),
-        z,
     )
-    return DriverCarry(state, jnp.asarray(float(dt)), z, z, z, info, jnp.asarray(SUCCESS), z)
+    return DriverCarry(state, jnp.asarray(float(dt)), z, z, z, info, jnp.asarray(SUCCESS))

@@ -87,10 +87,6 @@ class Integrator:
     every closed contact point in the stick or slip status of the last converged step;
     the later ones use the return mapping, and only they can converge (0: off; see
     :func:`newton.newton`). Must be below ``max_iter``.
-    chord: reuse a tangent for later corrections of the same step while each reduces the
-    residual to at most this fraction of the last (0: a fresh tangent every iteration;
-    see :func:`newton.newton`); chord_max: at most so many corrections per tangent.
-    ``max_iter`` counts tangents.
     """
 
     alpha: float = -0.05
@@ -105,8 +101,6 @@ class Integrator:
     max_rotation: float = 1.0
     stall: int = 0
     freeze: int = 0
-    chord: float = 0.0
-    chord_max: int = 8
 
     def __post_init__(self) -> None:
         if not (isinstance(self.freeze, int) and 0 <= self.freeze < self.max_iter):
@@ -114,10 +108,6 @@ class Integrator:
                 f"freeze must be a whole number in [0, max_iter = {self.max_iter}), "
                 f"got {self.freeze!r}"
             )
-        if not (isinstance(self.chord, float | int) and 0.0 <= self.chord < 1.0):
-            raise InputError(f"chord must be a number in [0, 1), got {self.chord!r}")
-        if not (isinstance(self.chord_max, int) and self.chord_max >= 1):
-            raise InputError(f"chord_max must be a whole number >= 1, got {self.chord_max!r}")
         if not (isinstance(self.stall, int) and self.stall >= 0):
             raise InputError(f"stall must be a whole number >= 0, got {self.stall!r}")
         if self.line_search not in ("growth", "monotone"):
@@ -239,7 +229,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             predict = (t0, t1, dt)
         else:
             predict = None
-        q1, it, rn, F, status, chords = newton(
+        q1, it, rn, F, status = newton(
             residual,
             state.q,
             topo,
@@ -251,8 +241,6 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             stall=ig.stall,
             predict=predict,
             freeze=ig.freeze,
-            chord=float(ig.chord),
-            chord_max=ig.chord_max,
         )
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)
@@ -272,7 +260,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
         new = DynState(t1, q1, u1, v1, a1, h1)
         good = status == SUCCESS
         out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
-        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt, chords)
+        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt)
         return out, info
 
     return step

@@ -37,12 +37,8 @@ def newton(
     stall=0,
     predict=None,
     freeze=0,
-    chord=0.0,
-    chord_max=8,
 ):
-    """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status,
-    chords): ``iterations`` counts the tangents formed (the predictor's included),
-    ``chords`` the corrections taken with an earlier tangent (0 unless ``chord``).
+    """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
     Also converged when the last correction is below ``xtol`` max(|q|, ``xscale``) (xscale:
     size of the structure, mm): the iterate has stopped moving at round-off. The residual
@@ -80,14 +76,6 @@ def newton(
     step's solution makes full Newton cycle between the branches (the stick band is far
     narrower than a correction); with the statuses frozen the first iterations solve a
     smooth problem, and the free ones start next to the solution when the statuses hold.
-
-    ``chord`` (static, 0: off): after an iteration with a fresh tangent, the next
-    corrections reuse it (chord, or modified Newton, iterations: one residual and one
-    solve, no linearisation) while each one reduces |R| to at most ``chord`` times the
-    last; the first that does not is discarded and the tangent is formed again at the same
-    iterate. At most ``chord_max`` chord corrections follow one tangent. Forming the
-    tangent of the paper crawler costs about six residuals, so a chord correction that
-    contracts the residual pays for itself; the converged state satisfies the same test.
     """
     if predict is None:
         tc0 = tc1 = dt = jnp.zeros(())
@@ -120,39 +108,22 @@ def newton(
     def done(q, R, F, dx, fz):
         return converged(q, R, F, dx) & ~fz
 
-    def linearise(q, pred, fz):
-        """Tangent at ``q`` (and, for the predictor, dR/dtc dt)."""
-        if predict is None:
-            _, J = banded.extract(lambda q: res_t(q, tc1, fz)[0], q, topo)
-            return J, jnp.zeros_like(q)
-        tc = jnp.where(pred, tc0, tc1)
-        _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc, fz)[0], q, topo, tc, dt)
-        return J, Rt
-
     def cond(c):
-        q, R, F, it, dx, _, it_ref, fz = c[:8]
+        q, R, F, it, dx, _, it_ref, fz = c
         finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
         solve = ~done(q, R, F, dx, fz) & finite & ~stalled(it, it_ref)
         return (it < max_iter) & (first(it) | solve)
 
     def body(c):
-        q, R, F, it, _, ref, it_ref, fz = c[:8]
+        q, R, F, it, _, ref, it_ref, fz = c
         pred = first(it)
-        if chord > 0:  # static
-            J_old, have, run, chords = c[8:]
-            # Reuse the last tangent while its corrections contract the residual.
-            stale = have & ~pred & (run < chord_max)
-            J, Rt = jax.lax.cond(
-                stale,
-                lambda _: (J_old, jnp.zeros_like(q)),
-                lambda _: linearise(q, pred, fz),
-                None,
-            )
+        if predict is None:
+            _, J = banded.extract(lambda q: res_t(q, tc1, fz)[0], q, topo)
+            dq = -banded.solve(J, R, topo)
         else:
-            stale = jnp.asarray(False)
-            J, Rt = linearise(q, pred, fz)
-        dq = -banded.solve(J, R + jnp.where(pred, Rt, 0.0), topo)
-        if predict is not None:
+            tc = jnp.where(pred, tc0, tc1)
+            _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc, fz)[0], q, topo, tc, dt)
+            dq = -banded.solve(J, R + jnp.where(pred, Rt, 0.0), topo)
             dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
         if monotone:
             bound = jnp.linalg.norm(R)
@@ -162,8 +133,7 @@ def newton(
         def ls_cond(ls):
             _, Rn, _, k = ls
             ok = pred | (jnp.all(jnp.isfinite(Rn)) & (jnp.linalg.norm(Rn) <= bound))
-            # A chord correction is tried whole, once (it is discarded if it fails).
-            return (k < 0) | (~ok & (k < max_backtracks) & ~stale)
+            return (k < 0) | (~ok & (k < max_backtracks))
 
         def ls_body(ls):
             s, _, _, k = ls
@@ -175,27 +145,19 @@ def newton(
         ls0 = (jnp.asarray(2.0), R, F, -1)
         s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, ls0)
         rn = jnp.linalg.norm(Rn)
-        # A chord correction that does not contract the residual by `chord` is discarded:
-        # the next iteration forms the tangent at the same iterate.
-        reject = stale & ~(jnp.all(jnp.isfinite(Rn)) & (rn <= chord * jnp.linalg.norm(R)))
-        s = jnp.where(reject, 0.0, s)
-        Rn, Fn = jnp.where(reject, R, Rn), jnp.where(reject, F, Fn)
-        rn = jnp.linalg.norm(Rn)
         if stall > 0:  # static: no bookkeeping in the loop when off
             halved = rn <= 0.5 * ref
             ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
         # After the predictor: the corrections start afresh (no stalled-iterate test on
-        # the predictor's move; the stall count starts at its residual). A discarded
-        # chord did not move: no stalled-iterate test either.
-        dx = jnp.where(pred | reject, jnp.inf, jnp.linalg.norm(s * dq))
+        # the predictor's move; the stall count starts at its residual).
+        dx = jnp.where(pred, jnp.inf, jnp.linalg.norm(s * dq))
         ref, it_ref = jnp.where(pred, rn, ref), jnp.where(pred, it + 1, it_ref)
         qn = q + s * dq
-        it_n = it + jnp.where(stale, 0, 1)
         if freeze > 0:  # static
             # Unfreeze once the frozen problem is solved (not on the predictor's move)
             # or after `freeze` iterations, and evaluate the iterate with the free law.
-            solved = ~pred & ~reject & converged(qn, Rn, Fn, dx)
-            unfreeze = fz & (solved | (it_n >= freeze))
+            solved = ~pred & converged(qn, Rn, Fn, dx)
+            unfreeze = fz & (solved | (it + 1 >= freeze))
 
             def free(_):
                 return res_t(qn, tc1, jnp.asarray(False))
@@ -204,28 +166,15 @@ def newton(
             # The free residual starts afresh: no stalled-iterate test on this move.
             dx = jnp.where(unfreeze, jnp.inf, dx)
             ref = jnp.where(unfreeze, jnp.linalg.norm(Rn), ref)
-            it_ref = jnp.where(unfreeze, it_n, it_ref)
+            it_ref = jnp.where(unfreeze, it + 1, it_ref)
             fz = fz & ~unfreeze
-        out = (qn, Rn, Fn, it_n, dx, ref, it_ref, fz)
-        if chord > 0:
-            run = jnp.where(stale, run + 1, 0)
-            # Reuse only a tangent whose last correction contracted by `chord` (the
-            # predictor's contraction is measured against the last step's residual: no).
-            keep = ~reject & (rn <= chord * jnp.linalg.norm(R))
-            out += (J, keep, run, chords + (stale & ~reject))
-        return out
+        return qn, Rn, Fn, it + 1, dx, ref, it_ref, fz
 
     zero = jnp.asarray(0)
     fz0 = jnp.asarray(freeze > 0)
     init = (q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero, fz0)
-    if chord > 0:
-        shapes = jax.eval_shape(lambda q: linearise(q, jnp.asarray(True), fz0)[0], q0)
-        J0 = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
-        init += (J0, jnp.asarray(False), zero, zero)
-    c = jax.lax.while_loop(cond, body, init)
-    q, R, F, it, dx, _, it_ref, fz = c[:8]
-    chords = c[11] if chord > 0 else zero
+    q, R, F, it, dx, _, it_ref, fz = jax.lax.while_loop(cond, body, init)
     finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
     failed = jnp.where(stalled(it, it_ref), STALLED, MAX_ITERATIONS)
     status = jnp.where(~finite, NONFINITE, jnp.where(done(q, R, F, dx, fz), SUCCESS, failed))
-    return q, it, jnp.linalg.norm(R), F, status, chords
+    return q, it, jnp.linalg.norm(R), F, status

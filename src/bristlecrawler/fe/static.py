@@ -94,12 +94,12 @@ def make_static_solver(topo, terms, rtol, atol, max_iter):
         def res(q):
             return static_residual(q, t, lam, history, params, topo, terms)
 
-        q, it, rn, F, status, _ = newton(
+        q, it, rn, F, status = newton(
             res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter, xscale=jnp.linalg.norm(params.X)
         )
         u = assembly.expand(q, t, lam, params, topo)
         status = flag_overflow(terms, u, params, status)
-        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam, 0 * it)
+        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
         return q, u, info
 
     return solve
@@ -175,7 +175,6 @@ def solve_static(
                 info.t,
                 info.dt,
                 info.lam,
-                info.chords,
             )
             infos[-1] = bad
             check(bad, where, throw=False)

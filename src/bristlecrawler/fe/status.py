@@ -47,8 +47,7 @@ class StepInfo:
 
     status: code (SUCCESS, MAX_ITERATIONS, NONFINITE, ...); iterations: Newton iterations;
     residual: |R| of the reduced residual (N, N mm mixed); rel_residual: |R| / force scale;
-    t: time reached (s); dt: step (s, 0 for statics); lam: load factor; chords: Newton
-    corrections taken with an earlier tangent (``Integrator.chord``; not in iterations).
+    t: time reached (s); dt: step (s, 0 for statics); lam: load factor.
     """
 
     status: object
@@ -58,7 +57,6 @@ class StepInfo:
     t: object
     dt: object
     lam: object
-    chords: object
 
 
 def describe(code: int) -> str:

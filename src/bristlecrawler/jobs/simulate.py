@@ -84,7 +84,6 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
         "steps": int(st.get("steps", h.t.size - 1)),
         "newton_iterations": int(st.get("newton_iterations", 0)),
         "rejected_steps": int(st.get("rejected_steps", 0)),
-        "chord_corrections": int(st.get("chord_corrections", 0)),
         "first_frequency_hz": float(st.get("first_frequency_hz", float("nan"))),
         "rayleigh_a0_per_s": float(st.get("rayleigh_a0", float("nan"))),
     }

@@ -111,15 +111,6 @@ class SolverConfig(_Section):
         "only later iterations, with the Coulomb return mapping, can converge "
         "(0: off). Must be below max_iterations",
     )
-    chord: float = Field(
-        0.0,
-        ge=0.0,
-        lt=1.0,
-        allow_inf_nan=False,
-        description="reuse a step's last Newton tangent for its next corrections while each "
-        "reduces the residual to at most this fraction of the last (0: a fresh tangent "
-        "every iteration); max_iterations then counts tangents",
-    )
     line_search: Literal["growth", "monotone"] = Field(
         "monotone",
         description="Newton line search: halve a correction until the residual decreases "
