@@ -3,7 +3,9 @@
 Runs ``bristlecrawler.crawler.simulate_crawler`` on a shipped scenario (default ``paper``)
 with optional ``--set section.key=value`` overrides (as in ``bristlecrawler simulate``),
 twice by default: the first run includes compilation, the second (same process, programs
-cached) does not. Prints a table; nothing is asserted. A run that fails is reported with
+cached) does not. Prints a table (wall times per step and per iteration of the whole run)
+and, per run, the stroke's own time (step 2 alone: no compilation, gravity step or modal
+analysis); nothing is asserted. A run that fails is reported with
 the solver's message and the simulated time it reached.
 
     python bench/bench_crawler.py [--scenario paper] [--cycles 5] [--set bristle.elements=20]
@@ -73,9 +75,14 @@ def main() -> None:
             f"{s['energy_balance_rel_error']:9.2e}"
         )
         per = ", ".join(f"{x:.3f}" for x in s["advance_per_cycle_mm"])
+        stroke, stroke_its = st["stroke_wall_time_s"], max(st["stroke_newton_iterations"], 1)
         print(
             f"     per cycle (mm): {per}; step program loaded or compiled in "
             f"{s['compile_time_s']:.1f} s"
+        )
+        print(
+            f"     stroke alone (step 2): {stroke:.1f} s, {stroke_its} iterations, "
+            f"{1e3 * stroke / steps:.2f} ms/step, {1e3 * stroke / stroke_its:.3f} ms/iter"
         )
         if failed:
             print(f"     FAILED: {failed}")

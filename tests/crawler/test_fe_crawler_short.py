@@ -83,6 +83,10 @@ def test_forces_are_the_friction_scale_and_dissipation_never_decreases(run):
     assert h.stats["steps"] > 0 and h.stats["newton_iterations"] >= h.stats["steps"]
     # The step's compilation is timed apart (and is part of the wall time).
     assert 0.0 < h.stats["compile_time_s"] < h.stats["wall_time_s"]
+    # So is the stroke (step 2) alone, with the part of the iterations it took: every
+    # stroke step needs at least one.
+    assert 0.0 < h.stats["stroke_wall_time_s"] < h.stats["wall_time_s"] - h.stats["compile_time_s"]
+    assert h.stats["steps"] <= h.stats["stroke_newton_iterations"] < h.stats["newton_iterations"]
     # No step of the stroke created more energy than solver.energy_tol (nor lost more
     # than solver.energy_loss_tol).
     step_errors = np.diff(h.energy_balance_residual())

@@ -272,6 +272,7 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         # Step 2: the stroke, in chunks so the progress bar moves.
         chunk = max(sc.actuation.period / 20.0, 0.5)
         carry = fe.driver_start(state, float(carry.dt))
+        stroke_t0, stroke_it0 = time.perf_counter(), iterations
         t = float(state.t)
         while t < t_end - 1e-9:
             t_next = min(t + chunk, t_end)
@@ -295,12 +296,16 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
                     rejected,
                     settle,
                     compile_s,
+                    (time.perf_counter() - stroke_t0, iterations - stroke_it0),
                 )
                 err.state = e.carry.state
                 raise err from None
             t = float(carry.state.t)
     wall = time.perf_counter() - wall0
-    return _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s)
+    stroke = (time.perf_counter() - stroke_t0, iterations - stroke_it0)
+    return _history(
+        cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s, stroke
+    )
 
 
 def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
@@ -326,7 +331,11 @@ def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
     }
 
 
-def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s):
+def _history(
+    cm, sc, records, omega1, damping, wall, iterations, rejected, settle, compile_s, stroke
+):
+    """The :class:`CrawlerHistory` of the records; ``stroke``: (wall time, s, and Newton
+    iterations of step 2 alone)."""
     t = np.array([float(r["t"]) for r in records])
     x = np.stack([np.asarray(r["x"]) for r in records])
     fc = np.array([float(r["fc"]) for r in records])
@@ -363,6 +372,8 @@ def _history(cm, sc, records, omega1, damping, wall, iterations, rejected, settl
             "steps": len(records) - 1,
             "newton_iterations": iterations,
             "rejected_steps": rejected,
+            "stroke_wall_time_s": stroke[0],
+            "stroke_newton_iterations": stroke[1],
             "first_frequency_hz": omega1 / (2 * math.pi),
             "rayleigh_a0": damping.a0,
             "rayleigh_a1": damping.a1,

@@ -81,6 +81,7 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
         "damping_dissipation_mJ": float(h.energies.get("damping", [0.0])[-1]),
         "wall_time_s": float(st.get("wall_time_s", float("nan"))),
         "compile_time_s": float(st.get("compile_time_s", float("nan"))),
+        "stroke_wall_time_s": float(st.get("stroke_wall_time_s", float("nan"))),
         "steps": int(st.get("steps", h.t.size - 1)),
         "newton_iterations": int(st.get("newton_iterations", 0)),
         "rejected_steps": int(st.get("rejected_steps", 0)),
