@@ -201,9 +201,18 @@ def test_no_energy_created_over_random_loading_paths(path):
         s_prev, a = s, float(r.anchor)
 
 
+def _zero_or_between(lo, hi):
+    """0 or a value of magnitude in [lo, hi], either sign."""
+    return st.one_of(st.just(0.0), st.floats(lo, hi), st.floats(-hi, -lo))
+
+
 @given(
-    g=st.floats(-1e-3, 1e-3),
-    ratio=st.floats(-3.0, 3.0),
+    # XLA on a CPU flushes subnormal numbers to zero. A gap of -1e-308 is a zero gap to the
+    # kernel (open) but a tiny penetration to the reference below (a CI run found it),
+    # and so is a trial slip s - a below 2.2e-308. Nonzero gaps and ratios stay far
+    # above that range.
+    g=_zero_or_between(1e-9, 1e-3),
+    ratio=_zero_or_between(1e-9, 3.0),
     a=st.floats(-10, 10),
     mode=st.sampled_from([STICK, SLIP]),
 )
