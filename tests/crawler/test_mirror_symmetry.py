@@ -8,8 +8,9 @@ forces at a reflected state are the reflected forces (node i <-> its mirror node
 from the land edges so that the point contact (faces and tips on the profile) and the
 corner contact (land edges against the outlines) both carry load, in stick and in slip
 (the anchors are those of another random state). A sign or orientation slip anywhere (a
-segment normal, the outline's direction, the friction direction, a tie rule that is not
-mirror-invariant) breaks this at order one; round-off leaves about 1e-13 of the force.
+segment normal, the outline's direction, the friction direction) breaks this at order
+one; round-off leaves about 1e-13 of the force. (Tie rules at exact ties are not reached
+by random states.)
 """
 
 import functools
