@@ -20,6 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from bristlecrawler.contact.coulomb import SLIP, STICK
 from bristlecrawler.crawler.model import build_crawler
 from bristlecrawler.fe import assembly
 from bristlecrawler.jobs.simulate import apply_overrides
@@ -83,25 +84,43 @@ def _forces():
         for term, pe in zip(m.terms, p.extra, strict=True):
             h = term.history_at(u_anchor, pe)
             c = term.commit(u, zero, 0.0, h, pe)
-            out.append((term.residual(u, zero, 0.0, h, pe), c.p_n, c.f_t, c.dissipation))
+            out.append((term.residual(u, zero, 0.0, h, pe), c.p_n, c.f_t, c.dissipation, c.state))
         return out, assembly.internal_force(u, p, topo), assembly.mass_times(u, p, topo)
 
     return fn
 
 
-@pytest.mark.parametrize(
-    "shift, drop, seed",
-    [(0.6, 0.1, 0), (-0.3, 0.2, 1), (0.45, 0.05, 2), (-0.6, 0.2, 3)],
-)
-def test_forces_commute_with_the_mirror(shift, drop, seed):
-    cm, perm, _ = _crawler()
+#: (shift, drop, seed) of the random states: bristles bent towards (+) or away from (-)
+#: the land edges, pressed in by ``drop`` (mm) at the tip.
+CASES = [(0.6, 0.1, 0), (-0.3, 0.2, 1), (0.45, 0.05, 2), (-0.6, 0.2, 3)]
+
+
+def _case(shift, drop, seed):
+    cm, _, _ = _crawler()
     rng = np.random.default_rng(seed)
     u_anchor = _state(cm, rng, shift, drop, 0.05)
     u = u_anchor + _state(cm, rng, 0.0, 0.0, 0.03) * jnp.asarray([1.0, 0.0, 1.0])
+    return u, u_anchor
+
+
+def test_the_cases_load_both_terms_in_stick_and_in_slip():
+    # Together the cases put points of each contact term in stick and in slip, so the
+    # mirror test below covers both branches of the return mapping in both terms.
+    for k in range(2):
+        states = set()
+        for case in CASES:
+            states |= set(np.ravel(np.asarray(_forces()(*_case(*case))[0][k][4])).tolist())
+        assert {STICK, SLIP} <= states
+
+
+@pytest.mark.parametrize("shift, drop, seed", CASES)
+def test_forces_commute_with_the_mirror(shift, drop, seed):
+    _, perm, _ = _crawler()
+    u, u_anchor = _case(shift, drop, seed)
     terms, f_int, Mu = _forces()(u, u_anchor)
     terms_m, f_int_m, Mu_m = _forces()(_mirror(u, perm), _mirror(u_anchor, perm))
     loaded = 0
-    for (f, p_n, f_t, diss), (f_m, p_n_m, f_t_m, diss_m) in zip(terms, terms_m, strict=True):
+    for (f, p_n, f_t, diss, _), (f_m, p_n_m, f_t_m, diss_m, _) in zip(terms, terms_m, strict=True):
         size = float(jnp.max(jnp.abs(f)))
         loaded += size > 1.0
         np.testing.assert_allclose(f_m, _mirror(f, perm), atol=1e-11 * max(size, 1.0))
