@@ -106,11 +106,11 @@ def _case(shift, drop, seed):
 def test_the_cases_load_both_terms_in_stick_and_in_slip():
     # Together the cases put points of each contact term in stick and in slip, so the
     # mirror test below covers both branches of the return mapping in both terms.
-    for k in range(2):
-        states = set()
-        for case in CASES:
-            states |= set(np.ravel(np.asarray(_forces()(*_case(*case))[0][k][4])).tolist())
-        assert {STICK, SLIP} <= states
+    states = [set(), set()]
+    for case in CASES:
+        for seen, term in zip(states, _forces()(*_case(*case))[0], strict=True):
+            seen |= set(np.ravel(np.asarray(term[4])).tolist())
+    assert all({STICK, SLIP} <= seen for seen in states)
 
 
 @pytest.mark.parametrize("shift, drop, seed", CASES)

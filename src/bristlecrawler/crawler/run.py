@@ -274,9 +274,23 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         carry = fe.driver_start(state, float(carry.dt))
         stroke_t0, stroke_it0 = time.perf_counter(), iterations
 
-        def stroke_so_far():
-            # Wall time (s) and Newton iterations of step 2 alone.
-            return time.perf_counter() - stroke_t0, iterations - stroke_it0
+        def history_so_far():
+            # The run up to now, with the wall time (s) and Newton iterations of step 2 alone.
+            stroke = (time.perf_counter() - stroke_t0, iterations - stroke_it0)
+            wall = time.perf_counter() - wall0
+            return _history(
+                cm,
+                sc,
+                records,
+                omega1,
+                damping,
+                wall,
+                iterations,
+                rejected,
+                settle,
+                compile_s,
+                stroke,
+            )
 
         t = float(state.t)
         while t < t_end - 1e-9:
@@ -290,36 +304,11 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
                     f"stroke step near t = {float(e.carry.state.t):.4g} s: {e.args[0]}"
                 )
                 # The run up to the failure, for diagnosis (figures, contact states).
-                err.partial = _history(
-                    cm,
-                    sc,
-                    records,
-                    omega1,
-                    damping,
-                    time.perf_counter() - wall0,
-                    iterations,
-                    rejected,
-                    settle,
-                    compile_s,
-                    stroke_so_far(),
-                )
+                err.partial = history_so_far()
                 err.state = e.carry.state
                 raise err from None
             t = float(carry.state.t)
-    wall = time.perf_counter() - wall0
-    return _history(
-        cm,
-        sc,
-        records,
-        omega1,
-        damping,
-        wall,
-        iterations,
-        rejected,
-        settle,
-        compile_s,
-        stroke_so_far(),
-    )
+    return history_so_far()
 
 
 def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
