@@ -81,6 +81,78 @@ def test_mass_damping_dissipates_and_undamped_conserves(model):
     assert energy(damped, model)["total"] < np.exp(-2.5) * E0
 
 
+def test_stiffness_damping_takes_its_modal_ratio(model):
+    """Stiffness-proportional Rayleigh damping (a1 = 2 zeta / w1, a0 = 0), the branch of
+    :func:`assembly.internal_and_damping_force` that takes the K v product: the first
+    mode, most of the released cantilever's energy, decays as exp(-2 zeta w1 t); the
+    higher modes, damped more (zeta ~ w), take the rest. A damping force that dropped
+    K v (or took it with a1 = 0) would conserve the energy and fail the upper bound."""
+    s0 = _released(model)
+    EI, rhoA = 1e-6 / 12, 1e-2
+    w1 = 1.8751**2 * np.sqrt(EI / rhoA)
+    T1 = 2 * np.pi / w1
+    dt = float(T1 / 20)
+    damped_model = Rayleigh.from_ratio(0.05, w1, kind="stiffness").apply(model)
+    assert float(damped_model.params.damping[0]) == 0.0
+    damped, infos = run_fixed(damped_model, s0, damped_model.params, dt, CHUNK, SCHEME)
+    assert np.all(np.asarray(infos.status) == 0)
+    E0 = energy(s0, model)["total"]
+    ratio = energy(damped, model)["total"] / E0
+    # Five periods at zeta = 0.05: exp(-2 zeta w1 t) = exp(-pi) = 0.043.
+    assert np.exp(-3.5) < ratio < np.exp(-2.8)
+
+
+def test_mass_damping_only_topology_same_steps_and_refuses_a1(model):
+    """A topology built without stiffness damping (``Structure.stiffness_damping(False)``,
+    the crawler's: its programs leave the K v product out) takes the steps of the full
+    program under mass-proportional damping, refuses a1 != 0 where it is set, and a step
+    that meets a1 != 0 anyway fails with a fatal status: the driver stops at the first
+    attempt instead of cutting dt down to dt_min."""
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.fe import integrate
+    from bristlecrawler.fe.status import UNSUPPORTED_DAMPING
+
+    EI, rhoA = 1e-6 / 12, 1e-2
+    w1 = 1.8751**2 * np.sqrt(EI / rhoA)
+    dt = float(2 * np.pi / w1 / 20)
+    full = Rayleigh.from_ratio(0.05, w1, kind="mass").apply(model)
+    lean_topo = dataclasses.replace(model.topology, stiffness_damping=False)
+    lean = dataclasses.replace(full, topology=lean_topo)
+    s0 = _released(model)
+    ref, _ = run_fixed(full, s0, full.params, dt, CHUNK, SCHEME)
+    got, infos = run_fixed(lean, s0, lean.params, dt, CHUNK, SCHEME)
+    assert np.all(np.asarray(infos.status) == 0)
+    assert energy(got, model)["total"] < 0.5 * energy(s0, model)["total"]  # damped
+    assert np.allclose(np.asarray(got.u), np.asarray(ref.u), rtol=1e-12, atol=1e-15)
+    with pytest.raises(InputError, match="a1"):
+        lean.with_params(damping=jnp.asarray([0.0, 1e-3]))
+    with pytest.raises(InputError, match="a1"):
+        Rayleigh.from_ratio(0.05, w1, kind="stiffness").apply(lean)
+    # Parameters that bypass the check: the step refuses them.
+    sneaky = dataclasses.replace(
+        lean, params=dataclasses.replace(lean.params, damping=jnp.asarray([0.0, 1e-3]))
+    )
+    res = integrate(sneaky, s0, 10 * dt, dt, integrator=SCHEME, throw=False)
+    assert not res.ok and res.rejected == 1 and len(res.times) == 0
+    assert int(res.infos[-1].status) == UNSUPPORTED_DAMPING
+    assert "stiffness-proportional damping" in res.message
+
+
+def test_structure_refuses_a1_without_stiffness_damping():
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.fe import Structure, TaperedRect
+
+    s = Structure()
+    nodes = s.chain((0.0, 0.0), (1.0, 0.0), 2, TaperedRect(E=1.0, b=1.0, h0=0.01, rho=1.0))
+    s.fix(nodes[0])
+    s.damping(0.0, 1e-3)
+    s.stiffness_damping(False)
+    with pytest.raises(InputError, match="stiffness_damping"):
+        s.build()
+    s.stiffness_damping(True)
+    assert s.build().topology.stiffness_damping
+
+
 def test_failure_is_a_status_and_throw_raises(model):
     s0 = _released(model)
     bad = model.with_params(sec=model.params.sec.at[3, 0].set(jnp.nan))  # E = NaN

@@ -117,9 +117,7 @@ def _observer(cm: CrawlerModel):
     @jax.jit
     def observe(state, params):
         u, v, a, t = state.u, state.v, state.a, state.t
-        f_int, Kv = jax.jvp(lambda u: assembly.internal_force(u, params, topo), (u,), (v,))
-        Mv = assembly.mass_times(v, params, topo)
-        damp = params.damping[0] * Mv + params.damping[1] * Kv
+        f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
         f_terms = assembly.terms_residual(u, v, t, state.history, params, terms)
         f_ext = assembly.external_force(t, 1.0, params, topo)
         full = assembly.mass_times(a, params, topo) + damp + f_int + f_terms - f_ext

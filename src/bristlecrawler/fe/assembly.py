@@ -70,6 +70,23 @@ def internal_force(u, params, topo):
     return jax.grad(internal_energy)(u, params, topo)
 
 
+def internal_and_damping_force(u, v, params, topo):
+    """Internal force and Rayleigh damping force ``C v = a0 M v + a1 K_T(u) v`` (full, N).
+
+    ``K_T v`` is a JVP of the internal force; a topology built without stiffness damping
+    (``topo.stiffness_damping`` False, static) leaves it out of the program: with
+    mass-proportional damping (the paper's) it and its second derivatives in the Newton
+    tangent are work multiplied by zero. (A ``lax.cond`` on a1 instead was timed no faster
+    on the paper crawler's step: the conditional inside the Newton loop costs what it saves.)
+    """
+    if not topo.stiffness_damping:
+        f_int = internal_force(u, params, topo)
+        return f_int, params.damping[0] * mass_times(v, params, topo)
+    f_int, Kv = jax.jvp(lambda u: internal_force(u, params, topo), (u,), (v,))
+    damp = params.damping[0] * mass_times(v, params, topo) + params.damping[1] * Kv
+    return f_int, damp
+
+
 def _element_masses(params, topo):
     e = topo.arrays()["elems"]
     X = params.X

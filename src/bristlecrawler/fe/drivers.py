@@ -20,7 +20,7 @@ import numpy as np
 
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.dynamics import DynState, Integrator, StepInfo, make_step
-from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, STEP_TOO_SMALL, SUCCESS
+from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
 
 
 @pytree()
@@ -54,7 +54,7 @@ def make_driver(
 
     One ``lax.while_loop`` takes steps from ``carry.state`` until ``t_end`` (s), until
     ``capacity`` steps are accepted, or until a failed step cannot be cut (dt / 2 below
-    ``dt_min``, or at once on CONTACT_OVERFLOW). The step rules are those of
+    ``dt_min``, or at once on a fatal status, :data:`status.FATAL`). The step rules are those of
     :func:`integrate` (halve on failure, grow by
     ``grow`` after <= ``easy_iterations`` Newton iterations, stay within [dt_min, dt_max]).
     ``observe(state, params) -> pytree`` (jittable, static, hashable) is recorded after
@@ -98,7 +98,7 @@ def make_driver(
             buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
             grown = jnp.where(easy, jnp.minimum(carry.dt * grow, dt_max), carry.dt)
             dt = jnp.where(good, grown, 0.5 * h)
-            fatal = info.status == CONTACT_OVERFLOW  # a smaller step cannot cure it
+            fatal = is_fatal(info.status)  # a smaller step cannot cure it
             failed = ~good & ((0.5 * h < dt_min) | fatal)
             cause = info.status
             too_small = failed & ~fatal
@@ -186,8 +186,8 @@ def make_host_driver(
             else:
                 rejected += 1
                 dt = 0.5 * h
-                failed = dt < dt_min or status == CONTACT_OVERFLOW
-                if failed and status != CONTACT_OVERFLOW:
+                failed = dt < dt_min or bool(is_fatal(status))
+                if failed and not is_fatal(status):
                     info = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))
         carry = DriverCarry(
             state=state,

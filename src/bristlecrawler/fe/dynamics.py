@@ -14,7 +14,8 @@ linear systems). Kinematics are integrated for the *full* nodal vectors and the 
 the residual is projected by J^T = (d expand / dq)^T. This is the index-3 Lagrange-multiplier
 HHT with the multipliers eliminated by the null-space (Jacobian) basis.
 
-Rayleigh damping C v = a0 M v + a1 K_T(u) v, with K_T v a JVP of the internal force.
+Rayleigh damping C v = a0 M v + a1 K_T(u) v, with K_T v a JVP of the internal force
+(taken only where a1 != 0, :func:`assembly.internal_and_damping_force`).
 """
 
 from __future__ import annotations
@@ -33,12 +34,13 @@ from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.newton import newton
 from bristlecrawler.fe.status import (
-    CONTACT_OVERFLOW,
     PENETRATION,
     ROTATION_LIMIT,
     STEP_TOO_SMALL,
     SUCCESS,
+    UNSUPPORTED_DAMPING,
     StepInfo,
+    is_fatal,
     message,
 )
 from bristlecrawler.fe.terms import (
@@ -172,9 +174,7 @@ class Rayleigh:
 def _force(u, v, t, history, params, topo, terms, freeze=False):
     """r = C v + f_int + terms - f_ext (full) and its force scale (``freeze``: see
     :func:`assembly.terms_residual`)."""
-    f_int, Kv = jax.jvp(lambda u: assembly.internal_force(u, params, topo), (u,), (v,))
-    Mv = assembly.mass_times(v, params, topo)
-    damp = params.damping[0] * Mv + params.damping[1] * Kv
+    f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
     f_t = assembly.terms_residual(u, v, t, history, params, terms, freeze)
     f_ext = assembly.external_force(t, 1.0, params, topo)
     scale = sum(jnp.linalg.norm(x) for x in (f_int, damp, f_t, f_ext))
@@ -257,6 +257,9 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             too_deep = max_penetration(terms, h1, params) > ig.max_penetration
             status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
         status = flag_overflow(terms, u1, params, status)
+        if not topo.stiffness_damping:
+            # The program has no K v term: parameters that need one are refused, not ignored.
+            status = jnp.where(params.damping[1] != 0.0, UNSUPPORTED_DAMPING, status)
         new = DynState(t1, q1, u1, v1, a1, h1)
         good = status == SUCCESS
         out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
@@ -343,9 +346,10 @@ def integrate(
 ) -> DynResult:
     """Adaptive time stepping from ``state`` to ``t_end`` (s), starting with step ``dt`` (s).
 
-    A step that fails (Newton limit, NaN) is retried with dt/2 (but a CONTACT_OVERFLOW, which
-    a smaller step cannot cure, ends the run); after a step that converged
-    in <= ``easy_iterations`` the step grows by ``grow``; dt stays in [dt_min, dt_max]
+    A step that fails (Newton limit, NaN) is retried with dt/2 (but a fatal status,
+    :data:`status.FATAL`, which a smaller step cannot cure, ends the run); after a step
+    that converged in <= ``easy_iterations`` the step grows by ``grow``; dt stays in
+    [dt_min, dt_max]
     (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded after every
     accepted step. Returns :class:`DynResult`; raises SolverError if ``throw`` and dt falls
     below dt_min.
@@ -374,7 +378,7 @@ def integrate(
             continue
         rejected += 1
         h = 0.5 * h_try
-        if int(info.status) == CONTACT_OVERFLOW:
+        if is_fatal(int(info.status)):
             msg = message(info, f"dynamics, step {len(times) + 1}")
             if throw:
                 raise SolverError(msg)

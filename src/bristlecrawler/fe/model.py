@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from bristlecrawler.errors import InputError
 from bristlecrawler.fe._pytree import pytree
 
 DOF_NAMES = ("x", "y", "theta")
@@ -30,7 +31,9 @@ class Topology:
     each prescribed DOF; links: (slave, master) of each rigid link; link_levels: indices into
     ``links`` grouped so masters are resolved before their slaves; red: (node, dof) of each
     reduced DOF in solver order; n_interior / n_border: sizes of the banded and border parts;
-    bs: block size of the block-tridiagonal interior.
+    bs: block size of the block-tridiagonal interior; stiffness_damping: whether the compiled
+    programs take the Rayleigh term a1 K_T v (False: mass-proportional damping only, see
+    :meth:`~bristlecrawler.fe.structure.Structure.stiffness_damping`).
     """
 
     n_nodes: int
@@ -44,6 +47,7 @@ class Topology:
     n_interior: int
     n_border: int
     bs: int
+    stiffness_damping: bool = True
 
     @property
     def n_red(self) -> int:
@@ -116,5 +120,15 @@ class Model:
     terms: tuple = ()
 
     def with_params(self, **changes: Any) -> Model:
-        """A new model with some parameter leaves replaced (same topology, no recompile)."""
+        """A new model with some parameter leaves replaced (same topology, no recompile).
+
+        Raises InputError for stiffness-proportional damping (a1 != 0) on a topology built
+        without it (:meth:`~bristlecrawler.fe.structure.Structure.stiffness_damping`)."""
+        if "damping" in changes and not self.topology.stiffness_damping:
+            a1 = np.asarray(changes["damping"])[..., 1]
+            if np.any(a1 != 0.0):
+                raise InputError(
+                    f"damping a1 = {float(np.max(np.abs(a1))):g} s: this model was built "
+                    "for mass-proportional damping only (Structure.stiffness_damping(False))"
+                )
         return dataclasses.replace(self, params=dataclasses.replace(self.params, **changes))

@@ -22,6 +22,10 @@ PENETRATION = 6
 STEP_ERROR = 7
 CONTACT_OVERFLOW = 8
 STALLED = 9
+UNSUPPORTED_DAMPING = 10
+
+#: Failures a smaller step cannot cure: the drivers stop at once instead of cutting dt.
+FATAL = (CONTACT_OVERFLOW, UNSUPPORTED_DAMPING)
 
 _TEXT = {
     SUCCESS: "converged",
@@ -38,7 +42,19 @@ _TEXT = {
         "step does not help)"
     ),
     STALLED: "Newton stalled: the residual stopped halving (Integrator.stall iterations)",
+    UNSUPPORTED_DAMPING: (
+        "the parameters have stiffness-proportional damping (a1 != 0), but the model was "
+        "built without it (Structure.stiffness_damping(False)); a smaller step does not help"
+    ),
 }
+
+
+def is_fatal(status):
+    """True where ``status`` (int or array, traced or not) is in :data:`FATAL`."""
+    out = status == FATAL[0]
+    for code in FATAL[1:]:
+        out = out | (status == code)
+    return out
 
 
 @pytree()

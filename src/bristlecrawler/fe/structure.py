@@ -73,6 +73,7 @@ class Structure:
         self._damping = (0.0, 0.0)
         self._terms: list[tuple[object, object]] = []
         self._lumped = False
+        self._stiffness_damping = True
 
     # -- nodes and members -------------------------------------------------------------
     def node(self, x: float, y: float) -> int:
@@ -200,6 +201,15 @@ class Structure:
             raise InputError(f"damping a0, a1 must be >= 0, got {a0}, {a1}")
         self._damping = (float(a0), float(a1))
 
+    def stiffness_damping(self, enabled: bool = True) -> None:
+        """Whether the model may carry stiffness-proportional Rayleigh damping (a1 > 0;
+        default True). False leaves the product K_T v, a JVP of the internal force, and
+        its second derivatives in the Newton tangent out of the compiled programs (a
+        sixth to a fifth of a Newton iteration of the paper crawler, timed); the model
+        then refuses a1 != 0 (:meth:`Model.with_params`) and a step that meets one
+        anyway fails with a fatal status."""
+        self._stiffness_damping = bool(enabled)
+
     def add_term(self, term, params=()) -> None:
         """Extra residual term (contact, ...), see :mod:`bristlecrawler.fe.terms`; the node
         groups it declares with ``couplings()`` widen the tangent's band at :meth:`build`."""
@@ -218,6 +228,10 @@ class Structure:
         for i, (a, b, _) in enumerate(self._springs):
             if np.linalg.norm(X[b] - X[a]) == 0.0:
                 raise InputError(f"spring {i} (nodes {a}-{b}) has zero rest length")
+        if self._damping[1] != 0.0 and not self._stiffness_damping:
+            raise InputError(
+                f"damping a1 = {self._damping[1]:g} s, but stiffness_damping(False) was set"
+            )
         slaves = {s for s, _, _ in self._links}
         for n, d in self._presc:
             if n in slaves:
@@ -247,6 +261,7 @@ class Structure:
             n_interior=n_int,
             n_border=len(red) - n_int,
             bs=bs,
+            stiffness_damping=self._stiffness_damping,
         )
         del red_nodes
         mass = np.zeros((nn, 3))

@@ -274,8 +274,7 @@ def _energy_observer(topo, clamp):
     @jax.jit
     def observe(state, params):
         u, v, a = state.u, state.v, state.a
-        f_int, Kv = jax.jvp(lambda u: assembly.internal_force(u, params, topo), (u,), (v,))
-        damp = params.damping[0] * assembly.mass_times(v, params, topo) + params.damping[1] * Kv
+        f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
         f_ext = assembly.external_force(state.t, 1.0, params, topo)
         full = assembly.mass_times(a, params, topo) + damp + f_int - f_ext
         h = state.history[0]
