@@ -69,3 +69,36 @@ def test_stick_drift_sets_the_stick_penalty(drift):
 def test_stick_drift_must_be_positive():
     with pytest.raises(ValueError, match="stick_drift"):
         _scenario(stick_drift=0.0)
+
+
+@pytest.mark.parametrize(
+    ("damping", "stiff"),
+    [
+        ({"kind": "mass"}, False),
+        ({"kind": "stiffness"}, True),
+        ({"kind": "explicit", "a0": 5.0, "a1": 0.0}, False),
+        ({"kind": "explicit", "a0": 0.0, "a1": 1e-4}, True),
+    ],
+)
+def test_damping_kind_decides_whether_the_programs_take_k_v(damping, stiff):
+    """The crawler's programs carry the a1 K v product only for the damping kinds that have
+    one, and the damping a run sets after the modal analysis (run.py) is accepted by the
+    model it was built for; a1 on a mass-damped crawler is refused, not ignored."""
+    from bristlecrawler import fe
+    from bristlecrawler.errors import InputError
+
+    d = load_scenario("paper").model_dump()
+    d["bristle"]["elements"] = 6
+    d["damping"].update(damping)
+    sc = Scenario.model_validate(d)
+    model = build_crawler(sc).model
+    assert model.topology.stiffness_damping is stiff
+    if sc.damping.kind == "explicit":
+        final = fe.Rayleigh(sc.damping.a0, sc.damping.a1)
+    else:
+        final = fe.Rayleigh.from_ratio(sc.damping.ratio, 400.0, sc.damping.kind)
+    final.apply(model)  # the run's own choice: accepted
+    fe.Rayleigh.from_ratio(0.15, 400.0, "mass").apply(model)  # the settle's: accepted
+    if not stiff:
+        with pytest.raises(InputError, match="a1"):
+            fe.Rayleigh.from_ratio(0.15, 400.0, "stiffness").apply(model)
