@@ -132,8 +132,8 @@ def build_crawler(
         chains.append(tuple(s.chain(clamp, tip, br.elements, section)))
         clamps.append(clamp)
     s.gravity(0.0, -sc.gravity)
-    # The programs take the a1 K v product only where the damping has one: a sixth to a
-    # fifth of a Newton iteration (fe.Structure.stiffness_damping).
+    # The programs take the a1 K v product only where the damping has one: 9-15 % of a
+    # Newton iteration in paired runs (fe.Structure.stiffness_damping).
     d = sc.damping
     s.stiffness_damping(d.kind == "stiffness" or (d.kind == "explicit" and d.a1 != 0.0))
     n_el = br.elements

@@ -165,7 +165,7 @@ def _profile_line(xs, substrate):
 def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> CrawlerHistory:
     """Run the scenario and return its :class:`CrawlerHistory` (raises SolverError on failure)."""
     from bristlecrawler import fe
-    from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe
+    from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe, is_fatal
     from bristlecrawler.viz.progress import sim_progress
 
     opt = options or RunOptions()
@@ -214,6 +214,8 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
                 if int(carry.cause) == CONTACT_OVERFLOW:
                     k = sc.contact.active_points
                     raise _Failed(msg + f" (contact.active_points = {k})", carry)
+                if is_fatal(int(carry.cause)):  # stopped at once: dt was not cut
+                    raise _Failed(msg, carry)
                 cause = describe(int(carry.cause))
                 if int(carry.cause) == STEP_ERROR:
                     cause += ": it created more energy than solver.energy_tol = "

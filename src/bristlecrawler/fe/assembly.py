@@ -78,6 +78,8 @@ def internal_and_damping_force(u, v, params, topo):
     mass-proportional damping (the paper's) it and its second derivatives in the Newton
     tangent are work multiplied by zero. (A ``lax.cond`` on a1 instead was timed no faster
     on the paper crawler's step: the conditional inside the Newton loop costs what it saves.)
+    On such a topology a1 is not read here: the time step refuses a1 != 0 (status
+    UNSUPPORTED_DAMPING), and callers outside it must not pass one.
     """
     if not topo.stiffness_damping:
         f_int = internal_force(u, params, topo)

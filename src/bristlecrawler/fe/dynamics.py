@@ -15,7 +15,8 @@ the residual is projected by J^T = (d expand / dq)^T. This is the index-3 Lagran
 HHT with the multipliers eliminated by the null-space (Jacobian) basis.
 
 Rayleigh damping C v = a0 M v + a1 K_T(u) v, with K_T v a JVP of the internal force
-(taken only where a1 != 0, :func:`assembly.internal_and_damping_force`).
+(left out of the programs of a topology built without stiffness damping,
+:func:`assembly.internal_and_damping_force`).
 """
 
 from __future__ import annotations

@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+import jax
 import numpy as np
 
 from bristlecrawler.errors import InputError
@@ -123,12 +124,20 @@ class Model:
         """A new model with some parameter leaves replaced (same topology, no recompile).
 
         Raises InputError for stiffness-proportional damping (a1 != 0) on a topology built
-        without it (:meth:`~bristlecrawler.fe.structure.Structure.stiffness_damping`)."""
-        if "damping" in changes and not self.topology.stiffness_damping:
-            a1 = np.asarray(changes["damping"])[..., 1]
+        without it (:meth:`~bristlecrawler.fe.structure.Structure.stiffness_damping`); a
+        traced value (under ``jit``) is left to the step, which refuses it with the fatal
+        status UNSUPPORTED_DAMPING."""
+        damping = changes.get("damping")
+        if (
+            damping is not None
+            and not self.topology.stiffness_damping
+            and not isinstance(damping, jax.core.Tracer)
+        ):
+            a1 = np.asarray(damping)[..., 1]
             if np.any(a1 != 0.0):
+                bad = a1.flat[int(np.argmax(a1 != 0.0))]
                 raise InputError(
-                    f"damping a1 = {float(np.max(np.abs(a1))):g} s: this model was built "
-                    "for mass-proportional damping only (Structure.stiffness_damping(False))"
+                    f"damping a1 = {float(bad):g} s: this model was built for "
+                    "mass-proportional damping only (Structure.stiffness_damping(False))"
                 )
         return dataclasses.replace(self, params=dataclasses.replace(self.params, **changes))

@@ -43,8 +43,8 @@ _TEXT = {
     ),
     STALLED: "Newton stalled: the residual stopped halving (Integrator.stall iterations)",
     UNSUPPORTED_DAMPING: (
-        "the parameters have stiffness-proportional damping (a1 != 0), but the model was "
-        "built without it (Structure.stiffness_damping(False)); a smaller step does not help"
+        "stiffness-proportional damping (a1 != 0) on a model built without it "
+        "(Structure.stiffness_damping(False); a smaller step does not help)"
     ),
 }
 

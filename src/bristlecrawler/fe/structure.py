@@ -204,8 +204,8 @@ class Structure:
     def stiffness_damping(self, enabled: bool = True) -> None:
         """Whether the model may carry stiffness-proportional Rayleigh damping (a1 > 0;
         default True). False leaves the product K_T v, a JVP of the internal force, and
-        its second derivatives in the Newton tangent out of the compiled programs (a
-        sixth to a fifth of a Newton iteration of the paper crawler, timed); the model
+        its second derivatives in the Newton tangent out of the compiled programs (9-15 %
+        of a Newton iteration of the paper crawler in paired runs); the model
         then refuses a1 != 0 (:meth:`Model.with_params`) and a step that meets one
         anyway fails with a fatal status."""
         self._stiffness_damping = bool(enabled)
