@@ -26,6 +26,8 @@ from bristlecrawler.verification.cases import N_ELEM, cantilever
 # Python float, since a numpy/strong-typed dt is another signature and another compile).
 SCHEME = Integrator.newmark(0.25, 0.5, rtol=1e-12)
 CHUNK = 100
+# First bending frequency (rad/s) of cantilever(): E = 1 MPa, b = 1 mm, h = 0.01 mm, rho = 1.
+W1 = 1.8751**2 * np.sqrt((1e-6 / 12) / 1e-2)  # sqrt(EI / rho A)
 
 
 @pytest.fixture(scope="module")
@@ -67,8 +69,7 @@ def test_vmap_step_matches_individual_runs(model):
 
 def test_mass_damping_dissipates_and_undamped_conserves(model):
     s0 = _released(model)
-    EI, rhoA = 1e-6 / 12, 1e-2  # cantilever(): E = 1 MPa, b = 1 mm, h = 0.01 mm, rho = 1
-    T1 = 2 * np.pi / (1.8751**2 * np.sqrt(EI / rhoA))
+    T1 = 2 * np.pi / W1
     dt = float(T1 / 20)
     ig = SCHEME
     E0 = energy(s0, model)["total"]
@@ -88,8 +89,7 @@ def test_stiffness_damping_takes_its_modal_ratio(model):
     higher modes, damped more (zeta ~ w), take the rest. A damping force that dropped
     K v (or took it with a1 = 0) would conserve the energy and fail the upper bound."""
     s0 = _released(model)
-    EI, rhoA = 1e-6 / 12, 1e-2
-    w1 = 1.8751**2 * np.sqrt(EI / rhoA)
+    w1 = W1
     T1 = 2 * np.pi / w1
     dt = float(T1 / 20)
     damped_model = Rayleigh.from_ratio(0.05, w1, kind="stiffness").apply(model)
@@ -111,8 +111,7 @@ def test_mass_damping_only_topology_same_steps_and_refuses_a1(model):
     from bristlecrawler.fe import integrate
     from bristlecrawler.fe.status import UNSUPPORTED_DAMPING
 
-    EI, rhoA = 1e-6 / 12, 1e-2
-    w1 = 1.8751**2 * np.sqrt(EI / rhoA)
+    w1 = W1
     dt = float(2 * np.pi / w1 / 20)
     full = Rayleigh.from_ratio(0.05, w1, kind="mass").apply(model)
     lean_topo = dataclasses.replace(model.topology, stiffness_damping=False)

@@ -350,10 +350,9 @@ def integrate(
     A step that fails (Newton limit, NaN) is retried with dt/2 (but a fatal status,
     :data:`status.FATAL`, which a smaller step cannot cure, ends the run); after a step
     that converged in <= ``easy_iterations`` the step grows by ``grow``; dt stays in
-    [dt_min, dt_max]
-    (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded after every
-    accepted step. Returns :class:`DynResult`; raises SolverError if ``throw`` and dt falls
-    below dt_min.
+    [dt_min, dt_max] (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded
+    after every accepted step. Returns :class:`DynResult`; raises SolverError if ``throw``
+    and dt falls below dt_min.
     """
     if not (dt > 0.0 and math.isfinite(dt)):
         raise InputError(f"dt must be positive, got {dt}")
