@@ -20,13 +20,16 @@ def test_shipped_scenarios_hold_the_paper_values():
     assert p.damping.ratio == 0.15 and p.damping.kind == "mass"
     v = load_scenario("paper-vertical")
     assert v.bristle.alpha_deg == 0.0
-    # The same model; only the bound on the energy a step may lose differs: the paper
-    # run takes its snaps in large steps, the vertical bristles' flips are resolved.
+    # The same model; only two numerical settings differ. The bound on the energy a step
+    # may lose: the paper run takes its snaps in large steps, the vertical bristles' flips
+    # are resolved. The stick penalty: the paper run allows ten times the elastic slip.
     skip = {"name": True, "description": True, "bristle": True}
     skip["solver"] = {"energy_loss_tol"}
+    skip["contact"] = {"stick_drift"}
     assert v.model_dump(exclude=skip) == p.model_dump(exclude=skip)
     assert p.solver.energy_loss_tol == math.inf
     assert math.isfinite(v.solver.energy_loss_tol)
+    assert p.contact.stick_drift == pytest.approx(10 * v.contact.stick_drift)
 
 
 @pytest.mark.parametrize(
