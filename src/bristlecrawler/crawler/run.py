@@ -257,11 +257,18 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         modes = fe.modes(model, state.q, n_modes=1, t=float(state.t), history=state.history)
         omega1 = float(modes.omega[0])
         if sc.damping.kind != "explicit" and not omega1 > 1e-6 * opt.settle_omega:
+            w2 = float(modes.eigenvalues[0])
+            if w2 < -((1e-6 * opt.settle_omega) ** 2):
+                why = (
+                    f"the settled state is unstable (lowest eigenvalue of the tangent "
+                    f"{w2:.3g} rad^2/s^2: the crawler rocks on its contact points)"
+                )
+            else:
+                why = "the crawler has a free rigid-body mode (no bristle sticks)"
             raise SolverError(
-                f"after the gravity step the crawler has a free rigid-body mode (first "
-                f"frequency {omega1 / (2 * math.pi):.3g} Hz): no bristle sticks to the "
-                f"substrate at t = {float(state.t):.3g} s, so the damping cannot be set at "
-                "the first resonance; lengthen actuation.settle_time or give damping a0/a1"
+                f"after the gravity step {why} at t = {float(state.t):.3g} s, so the "
+                "damping cannot be set at the first resonance; lengthen "
+                "actuation.settle_time or give damping a0/a1"
             )
         if sc.damping.kind == "explicit":
             damping = fe.Rayleigh(sc.damping.a0, sc.damping.a1)

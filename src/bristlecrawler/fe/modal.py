@@ -23,11 +23,14 @@ from bristlecrawler.fe.static import tangent
 @dataclasses.dataclass(frozen=True)
 class Modes:
     """frequency_hz: (k,); omega: (k,) rad/s; shapes: (k, n_nodes, 3) full mode shapes
-    (mass-normalised in the reduced unknowns)."""
+    (mass-normalised in the reduced unknowns); eigenvalues: (k,) omega^2 in rad^2/s^2
+    with its sign. A negative eigenvalue is an unstable equilibrium (its omega and
+    frequency are reported as 0), a zero one a free mode."""
 
     frequency_hz: np.ndarray
     omega: np.ndarray
     shapes: np.ndarray
+    eigenvalues: np.ndarray
 
 
 @functools.lru_cache(maxsize=64)
@@ -98,4 +101,4 @@ def modes(model, q=None, n_modes: int = 3, t: float = 0.0, lam: float = 1.0, his
             q, jnp.asarray(vec.T), jnp.asarray(float(t)), jnp.asarray(float(lam)), model.params
         )
     )
-    return Modes(omega / (2.0 * np.pi), omega, shapes)
+    return Modes(omega / (2.0 * np.pi), omega, shapes, np.asarray(w2))

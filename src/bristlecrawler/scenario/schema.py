@@ -187,8 +187,9 @@ class ContactConfig(_Section):
         description="elastic tangential displacement in stick at the friction limit of the "
         "penalty load, mm (sets the stick penalty k_t = mu load / stick_drift). `paper` "
         "sets 1e-3 mm: the same gait as 1e-4 mm in 40 % fewer Newton iterations. "
-        "`paper-vertical` keeps 1e-4 mm: with 1e-3 no tip sticks at the end of its 0.5 s "
-        "gravity step and the modal analysis finds a free rigid-body mode "
+        "`paper-vertical` keeps 1e-4 mm: with 1e-3, at the end of its 0.5 s gravity step "
+        "each tip stands on one face point and the settled state is unstable (a negative "
+        "lowest eigenvalue of the tangent) "
         "(docs/fe-crawler-investigation.md)",
     )
     active_points: int | None = Field(
