@@ -256,9 +256,10 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         state = carry.state
         modes = fe.modes(model, state.q, n_modes=1, t=float(state.t), history=state.history)
         omega1 = float(modes.omega[0])
-        if sc.damping.kind != "explicit" and not omega1 > 1e-6 * opt.settle_omega:
+        zero = 1e-6 * opt.settle_omega  # rad/s: below it the lowest mode does not resonate
+        if sc.damping.kind != "explicit" and not omega1 > zero:
             w2 = float(modes.eigenvalues[0])
-            if w2 < -((1e-6 * opt.settle_omega) ** 2):
+            if w2 < -(zero**2):
                 why = (
                     f"the settled state is unstable (lowest eigenvalue of the tangent "
                     f"{w2:.3g} rad^2/s^2: the crawler rocks on its contact points)"
