@@ -19,6 +19,7 @@ from bristlecrawler.contact.corner import (
     beam_outline,
     convex_corners,
 )
+from bristlecrawler.contact.outline import clearance
 
 
 def test_convex_corners_of_grooves_are_the_land_edges():
@@ -298,8 +299,10 @@ def _residual_and_tangent(term, p, u, h):
 
 def test_tangent_through_the_closest_pairs_only_is_exact_while_they_hold_every_contact():
     """The corner term differentiates only the ``tangent_pairs`` pairs of an outline with
-    the smallest gaps. The residual is always that of every pair; the tangent is the full
-    one while no other pair is closed, and only then."""
+    the smallest clearances (lower bounds on the gaps). The residual is always that of
+    every pair (with fewer tangent pairs than closed ones, the broad phase's fallback
+    adds the others); the tangent is the full one while no other pair is closed, and
+    only then."""
     m, term, u, h = _pressed_strip(FaceCornerContact)
     p = m.params.extra[0]
     closed = int(np.sum(np.asarray(term.commit(u, u, 0.0, h, p).p_n) > 0))
@@ -357,3 +360,42 @@ def test_sliding_friction_is_coulomb_on_a_stretched_face(stretch):
     h1 = term.commit(u1, u0, 0.0, h0, p)
     closed = np.asarray(h1.state)[0] > 0
     assert closed.sum() >= 2 and np.all(np.asarray(h1.state)[0][closed] == 2)  # all slip
+
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    angle=st.floats(-math.pi, math.pi),
+    bend=st.floats(-0.3, 0.3),
+    rho=st.floats(0.0, 0.1),
+    seed=st.integers(0, 2**31 - 1),
+)
+def test_clearance_is_a_lower_bound_on_the_gap(angle, bend, rho, seed):
+    """The corner term's broad phase: outside a beam outline (a strip 0.5 mm thick and 4
+    mm long, bent with curvature ``2 bend`` and turned by ``angle``) the clearance,
+    distance minus rho, never exceeds the gap of :func:`_pair`, so a pair with positive
+    clearance is open; inside it is -inf and the pair is closed. Corners sampled inside,
+    around and beyond the ends of the strip."""
+    x = np.linspace(0.0, 4.0, 9)
+    axis = np.stack([x, bend * (x - 2.0) ** 2], axis=1)
+    tang = np.gradient(axis, axis=0)
+    tang /= np.linalg.norm(tang, axis=1)[:, None]
+    nrm = np.stack([-tang[:, 1], tang[:, 0]], axis=1)
+    P = np.concatenate([axis + 0.25 * nrm, (axis - 0.25 * nrm)[::-1], axis[:1] + 0.25 * nrm[:1]])
+    c, s_ = math.cos(angle), math.sin(angle)
+    P = P @ np.array([[c, -s_], [s_, c]]).T
+    seg = np.diff(P, axis=0)
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))])
+    side = np.sign(np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1]))
+    rng = np.random.default_rng(seed)
+    C = jnp.asarray(rng.uniform(P.min(axis=0) - 1.0, P.max(axis=0) + 1.0, (400, 2)))
+    g, _ = jax.vmap(_pair, in_axes=(None, None, None, 0, None))(
+        jnp.asarray(P), jnp.asarray(arc), side, C, rho
+    )
+    lb = np.asarray(clearance(jnp.asarray(P), C, jnp.full(400, rho)))
+    g = np.asarray(g)
+    inside = np.isneginf(lb)
+    assert 0 < inside.sum() < 400  # both kinds sampled
+    assert np.all(g[inside] < -rho + 1e-12)
+    assert np.all(lb[~inside] <= g[~inside] + 1e-12)
+    assert np.all(g[lb > 0] > 0)

@@ -196,6 +196,34 @@ def _pair(P, arc, side, C, rho):
     return g, s
 
 
+def clearance(P, C, rho):
+    """Lower bound (mm) on the gap of each corner disc (C (k, 2), rho (k,)) against the
+    closed polygon P (n + 1 points), -inf where the corner's centre lies inside it.
+
+    Outside, every branch of :func:`_pair` measures the gap as the length of a line from
+    the corner's centre to a point of the polygon (along an interpolated normal, to a
+    sharp vertex, or to the closest point), minus rho, with the sign of the side. That
+    length is at least the Euclidean distance to the polygon, so ``distance - rho > 0``
+    leaves a pair open wherever the sign is the outside one; inside (crossing number) no
+    bound is claimed. No derivatives: it only chooses which pairs to evaluate.
+    """
+    A, B = P[:-1], P[1:]
+    ab = B - A
+    w = C[:, None, :] - A[None]  # (k, n, 2)
+    L2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), 1e-300)
+    t = jnp.clip(jnp.sum(w * ab, axis=-1) / L2, 0.0, 1.0)
+    d = w - t[..., None] * ab
+    dist = jnp.sqrt(jnp.min(jnp.sum(d * d, axis=-1), axis=-1))
+    # Crossing number of the ray from C towards +x.
+    ya, yb = A[:, 1], B[:, 1]
+    cy = C[:, None, 1]
+    straddles = (ya > cy) != (yb > cy)
+    dy = jnp.where(straddles, yb - ya, 1.0)
+    x_cross = A[:, 0] + (cy - ya) * ab[:, 0] / dy
+    crossings = jnp.sum(straddles & (C[:, None, 0] < x_cross), axis=-1)
+    return jnp.where(crossings % 2 == 1, -jnp.inf, dist - rho)
+
+
 def _cumulative(P):
     seg = P[1:] - P[:-1]
     L = jnp.sqrt(jnp.maximum(jnp.sum(seg * seg, axis=-1), 1e-300))
