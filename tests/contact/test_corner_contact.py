@@ -362,7 +362,6 @@ def test_sliding_friction_is_coulomb_on_a_stretched_face(stretch):
     assert closed.sum() >= 2 and np.all(np.asarray(h1.state)[0][closed] == 2)  # all slip
 
 
-
 @settings(max_examples=40, deadline=None)
 @given(
     angle=st.floats(-math.pi, math.pi),
