@@ -56,6 +56,15 @@ def _fan(A, B, nA, nB, C):
     return -2.0 * a0 / den
 
 
+def _segment_distance2(A, ab, C):
+    """Squared distance (mm^2) from C (2,), or (k, 1, 2) for k points, to each segment
+    A + t ab, t in [0, 1] (A, ab: (n, 2)); shape (n,) or (k, n)."""
+    L2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), 1e-300)
+    t = jnp.clip(jnp.sum((C - A) * ab, axis=-1) / L2, 0.0, 1.0)
+    d = C - (A + t[..., None] * ab)
+    return jnp.sum(d * d, axis=-1)
+
+
 def _select(P, side, C):
     """Which feature of the polygon the corner C projects on (no derivatives needed: the
     choice is piecewise constant): (segment i, sharp vertex k, fallback segment m, found,
@@ -80,10 +89,7 @@ def _select(P, side, C):
     seg_wins = d2[i] <= dv2[k]
     found = jnp.isfinite(jnp.minimum(d2[i], dv2[k]))
     vsign = jnp.where(jnp.dot(dv[k], n_seg[k] + n_prev[k]) < 0.0, -1.0, 1.0)
-    L2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), 1e-300)
-    tc = jnp.clip(jnp.sum((C - A) * ab, axis=-1) / L2, 0.0, 1.0)
-    dc = C - (A + tc[:, None] * ab)
-    m = jnp.argmin(jnp.sum(dc * dc, axis=-1))
+    m = jnp.argmin(_segment_distance2(A, ab, C))
     return i, k, m, found, seg_wins, vsign
 
 
@@ -209,11 +215,7 @@ def clearance(P, C, rho):
     """
     A, B = P[:-1], P[1:]
     ab = B - A
-    w = C[:, None, :] - A[None]  # (k, n, 2)
-    L2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), 1e-300)
-    t = jnp.clip(jnp.sum(w * ab, axis=-1) / L2, 0.0, 1.0)
-    d = w - t[..., None] * ab
-    dist = jnp.sqrt(jnp.min(jnp.sum(d * d, axis=-1), axis=-1))
+    dist = jnp.sqrt(jnp.min(_segment_distance2(A, ab, C[:, None, :]), axis=-1))
     # Crossing number of the ray from C towards +x.
     ya, yb = A[:, 1], B[:, 1]
     cy = C[:, None, 1]
