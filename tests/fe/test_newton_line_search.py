@@ -171,3 +171,54 @@ def test_a_frozen_limit_of_one_iteration_still_converges_on_the_free_law():
 def test_freeze_outside_zero_to_max_iterations_is_refused(freeze):
     with pytest.raises(InputError, match="freeze"):
         Integrator.hht(freeze=freeze, max_iter=12)
+
+
+def _linear(topo, translation, rotation):
+    """R(q) = q - target per DOF: full Newton solves it in one correction. The target
+    moves every translation DOF by ``translation`` mm and every rotation by ``rotation``."""
+    is_translation = np.asarray(topo.arrays()["red"])[:, 1] < 2
+    target = jnp.asarray(np.where(is_translation, translation, rotation))
+
+    def residual(q):
+        return q - target, jnp.asarray(1.0)
+
+    return residual, target
+
+
+@pytest.mark.parametrize(
+    ("move", "cap", "expected"), [(1.0, 0.3, 4), (1.0, 0.25, 4), (1.0, 0.1, 10), (0.2, 0.3, 1)]
+)
+def test_max_move_caps_each_correction_of_the_translations(move, cap, expected):
+    """A linear residual: each correction is the whole remaining distance, capped at
+    ``cap`` mm of nodal translation, and the monotone search takes every capped trial
+    (the residual falls linearly along it). So Newton needs ceil(move / cap) corrections
+    and lands on the same root."""
+    topo = cantilever().topology
+    residual, target = _linear(topo, move, 0.0)
+    q0 = jnp.zeros(topo.n_red)
+    kw = dict(rtol=1e-12, atol=0.0, max_iter=40, monotone=True)
+    q, it, _, _, status = newton(residual, q0, topo, max_move=cap, **kw)
+    assert int(status) == SUCCESS and int(it) == expected
+    np.testing.assert_allclose(np.asarray(q), np.asarray(target), atol=1e-12)
+    q, it, _, _, status = newton(residual, q0, topo, **kw)
+    assert int(status) == SUCCESS and int(it) == 1
+
+
+def test_max_move_leaves_rotations_and_small_corrections_whole():
+    """Rotations (rad) do not count against the cap (mm): a correction that turns every
+    node by 1 rad and moves none is taken whole, as without the cap."""
+    topo = cantilever().topology
+    residual, target = _linear(topo, 0.0, 1.0)
+    q0 = jnp.zeros(topo.n_red)
+    kw = dict(rtol=1e-12, atol=0.0, max_iter=40, monotone=True)
+    a = newton(residual, q0, topo, max_move=0.01, **kw)
+    b = newton(residual, q0, topo, **kw)
+    assert int(a[4]) == int(b[4]) == SUCCESS
+    assert int(a[1]) == int(b[1]) == 1
+    np.testing.assert_array_equal(np.asarray(a[0]), np.asarray(b[0]))
+
+
+@pytest.mark.parametrize("cap", [0.0, -1.0, float("nan")])
+def test_non_positive_max_correction_is_refused(cap):
+    with pytest.raises(InputError, match="max_correction"):
+        Integrator.hht(max_correction=cap)

@@ -43,6 +43,7 @@ def test_shipped_scenarios_hold_the_paper_values():
         ({"body": {"length": -5}}, "length"),
         ({"actuation": {"kind": "history"}}, "history"),
         ({"substrate": {"kind": "grooves", "width": 1, "depth": 0, "pitch": 2}}, "depth"),
+        ({"solver": {"max_correction": 0}}, "max_correction"),
         ({"bristel": {}}, "bristel"),
     ],
 )

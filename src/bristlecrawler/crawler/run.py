@@ -187,6 +187,7 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         line_search=sc.solver.line_search,
         predictor=sc.solver.predictor,
         max_penetration=sc.contact.max_penetration,
+        max_correction=sc.solver.max_correction,
     )
     topo, terms = cm.model.topology, cm.model.terms
     host = opt.driver == "host" or (opt.driver == "auto" and jax.default_backend() == "cpu")

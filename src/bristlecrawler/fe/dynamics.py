@@ -90,6 +90,9 @@ class Integrator:
     every closed contact point in the stick or slip status of the last converged step;
     the later ones use the return mapping, and only they can converge (0: off; see
     :func:`newton.newton`). Must be below ``max_iter``.
+    max_correction: largest nodal translation (mm) of a Newton correction's first trial;
+    a larger correction is scaled down to it before the line search (inf: off; see
+    ``max_move`` in :func:`newton.newton`).
     """
 
     alpha: float = -0.05
@@ -104,6 +107,7 @@ class Integrator:
     max_rotation: float = 1.0
     stall: int = 0
     freeze: int = 0
+    max_correction: float = math.inf
 
     def __post_init__(self) -> None:
         if not (isinstance(self.freeze, int) and 0 <= self.freeze < self.max_iter):
@@ -119,6 +123,8 @@ class Integrator:
             )
         if not self.max_rotation > 0.0:
             raise InputError(f"max_rotation must be > 0 rad, got {self.max_rotation}")
+        if not self.max_correction > 0.0:
+            raise InputError(f"max_correction must be > 0 mm, got {self.max_correction}")
         if not self.max_penetration > 0.0:
             raise InputError(f"max_penetration must be > 0 mm, got {self.max_penetration}")
         if self.predictor not in ("tangent", "constant"):
@@ -242,6 +248,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
             stall=ig.stall,
             predict=predict,
             freeze=ig.freeze,
+            max_move=ig.max_correction,
         )
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)

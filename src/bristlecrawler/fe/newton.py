@@ -14,8 +14,11 @@ Converged when |R| <= rtol F + atol, F the force scale returned by the residual.
 
 from __future__ import annotations
 
+import math
+
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from bristlecrawler.fe import banded
 from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, STALLED, SUCCESS
@@ -37,6 +40,7 @@ def newton(
     stall=0,
     predict=None,
     freeze=0,
+    max_move=math.inf,
 ):
     """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
 
@@ -52,6 +56,15 @@ def newton(
     breaks the cycle of a contact point that flips between stick and slip from one
     iterate to the next (a friction force offset from a beam axis locks the node's
     rotation in stick and frees it in slip, so full Newton corrections alternate).
+
+    ``max_move`` (static, mm; inf: off): the first trial of each correction after the
+    predictor is scaled down so that no nodal translation (the reduced unknowns of x and
+    y) moves by more than ``max_move``; the halvings start from there and stop at the
+    same floor, ``2**-max_backtracks`` of the whole correction. A contact residual is
+    curved on the scale of its penalty (microns): a correction that moves a bristle tip
+    by millimetres, through the substrate, raised |R| a thousandfold and took all
+    eight halvings to find that even 1/256 of it does not decrease |R|; a trust region
+    reaches that scale in a few trials.
 
     ``stall`` (static, 0: off): give up, with status STALLED, once ``stall`` iterations
     have passed without the residual halving (below half the last residual that did).
@@ -91,6 +104,11 @@ def newton(
         return (it == 0) if predict is not None else jnp.asarray(False)
 
     R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
+    floor = 0.5**max_backtracks  # smallest trial, a fraction of the whole correction
+    if math.isfinite(max_move):
+        if not max_move > 0.0:
+            raise ValueError(f"max_move must be > 0 mm, got {max_move}")
+        translation = jnp.asarray(np.asarray(topo.arrays()["red"])[:, 1] < 2)
 
     # The stalled-iterate test must not accept a run-away iterate, whose corrections are
     # also small relative to |q| (full Newton steps on arctan(q - 3) reach |q| ~ 1e292 and
@@ -131,9 +149,9 @@ def newton(
             bound = growth * jnp.maximum(jnp.linalg.norm(R), rtol * F)
 
         def ls_cond(ls):
-            _, Rn, _, k = ls
+            s, Rn, _, k = ls
             ok = pred | (jnp.all(jnp.isfinite(Rn)) & (jnp.linalg.norm(Rn) <= bound))
-            return (k < 0) | (~ok & (k < max_backtracks))
+            return (k < 0) | (~ok & (s > floor))
 
         def ls_body(ls):
             s, _, _, k = ls
@@ -141,8 +159,12 @@ def newton(
             Rn, Fn = res_t(q + s * dq, tc1, fz)
             return s, Rn, Fn, k + 1
 
-        # k = -1: the full step is tried in the loop too (one residual in the program).
-        ls0 = (jnp.asarray(2.0), R, F, -1)
+        s0 = jnp.asarray(1.0)
+        if math.isfinite(max_move):  # static
+            move = jnp.max(jnp.where(translation, jnp.abs(dq), 0.0), initial=0.0)
+            s0 = jnp.where(pred | (move <= max_move), 1.0, max_move / move)
+        # k = -1: the first trial is made in the loop too (one residual in the program).
+        ls0 = (2.0 * s0, R, F, -1)
         s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, ls0)
         rn = jnp.linalg.norm(Rn)
         if stall > 0:  # static: no bookkeeping in the loop when off

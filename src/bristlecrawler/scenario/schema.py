@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -138,6 +139,16 @@ class SolverConfig(_Section):
         "resolve the snaps; inf lets a step take a snap at once, which runs `paper` 2.3 "
         "times faster with the same advance, but lets the vertical bristles of "
         "`paper-vertical` flip over unresolved (docs/fe-crawler-investigation.md)",
+    )
+    max_correction: float = Field(
+        0.05,
+        gt=0.0,
+        allow_inf_nan=True,
+        description="largest nodal translation of a Newton correction's first trial, mm: "
+        "a larger correction is scaled down to it before the line search halves it (inf: "
+        "off). Corrections that moved a bristle tip by millimetres through the substrate "
+        "took all the line search's halvings; capped, `paper` needs 15-20 % fewer Newton "
+        "iterations for the same gait (docs/fe-crawler-investigation.md)",
     )
 
 
