@@ -3,7 +3,8 @@
 Runs a shipped scenario (default ``paper``) at its own resolution and at the refinements
 the issue asks for: twice the elements per bristle (half the element size), a tenth of
 ``dt_max`` and of the step energy tolerance, a bound on the energy a step may lose (a
-tenth of it when there is one), and a tenth of the stick drift (the friction penalty).
+tenth of it when there is one), a tenth of the stick drift (the friction penalty), and
+Newton without its trust region (``solver.max_correction = inf``, when it has one).
 Prints one row per run and the change of the net advance (mm) and of the connector work
 (%) against the base run; nothing is asserted.
 
@@ -47,6 +48,8 @@ def main() -> None:
         (f"energy_loss {loss_to:g}", [f"solver.energy_loss_tol={loss_to!r}"]),
         (f"stick_drift {drift / 10:g}", [f"contact.stick_drift={drift / 10!r}"]),
     ]
+    if math.isfinite(base.solver.max_correction):
+        variants.append(("max_correction inf", ["solver.max_correction=inf"]))
     print(
         f"scenario {base.name}, {a.cycles} cycle(s): {n} elements per bristle, "
         f"dt_max {dt:g} s, energy_tol {tol:g} mJ, energy_loss_tol {loss:g} mJ, "
