@@ -146,7 +146,7 @@ class SolverConfig(_Section):
         description="largest nodal translation of a Newton correction's first trial, mm: "
         "a larger correction is scaled down to it before the line search halves it (inf: "
         "off). Corrections that moved a bristle tip by millimetres through the substrate "
-        "took all the line search's halvings; capped, `paper` needs 15-20 % fewer Newton "
+        "took all the line search's halvings; capped, `paper` needs 16-22 % fewer Newton "
         "iterations for the same gait (docs/fe-crawler-investigation.md)",
     )
 
