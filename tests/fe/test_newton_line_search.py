@@ -1,5 +1,7 @@
 """Newton's line search: the monotone option converges where full corrections cycle."""
 
+import math
+
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -219,7 +221,43 @@ def test_max_move_leaves_rotations_alone():
     np.testing.assert_allclose(np.asarray(a[0]), np.asarray(target), atol=1e-12)
 
 
-@pytest.mark.parametrize("cap", [0.0, -1.0, float("nan")])
+@pytest.mark.parametrize("cap", [0.0, -1.0, -math.inf, math.nan])
 def test_non_positive_max_correction_is_refused(cap):
     with pytest.raises(InputError, match="max_correction"):
         Integrator.hht(max_correction=cap)
+    topo = cantilever().topology
+    residual, _ = _linear(topo, 1.0, 0.0)
+    with pytest.raises(InputError, match="max_move"):
+        newton(
+            residual, jnp.zeros(topo.n_red), topo, rtol=1e-12, atol=0.0, max_iter=4, max_move=cap
+        )
+
+
+def test_the_dynamic_step_caps_its_corrections():
+    """`Integrator.max_correction` reaches the step's Newton: a cantilever under a sudden
+    tip load, one long HHT step from rest, Newton from the last state (constant
+    predictor). Each correction moves the tip by at most the cap, so Newton needs at least
+    |u_tip| / cap iterations, and the step converges to the same state."""
+    import jax
+
+    from bristlecrawler.fe import Structure, initial_state, make_step
+    from bristlecrawler.verification.structures import PAPER_BRISTLE
+
+    s = Structure()
+    root = s.node(0.0, 0.0)
+    tip = s.chain(root, (5.0, 0.0), 8, PAPER_BRISTLE)[-1]
+    s.fix(root)
+    s.load(tip, fy=-0.05)
+    m = s.build()
+    state = initial_state(m)
+    runs = {}
+    for cap in (math.inf, 0.01):
+        ig = Integrator.hht(predictor="constant", max_iter=100, max_correction=cap)
+        new, info = make_step(m.topology, m.terms, ig)(state, m.params, jnp.asarray(1.0))
+        assert int(info.status) == SUCCESS
+        runs[cap] = (jax.device_get(new.u), int(info.iterations))
+    (u_free, it_free), (u_cap, it_cap) = runs[math.inf], runs[0.01]
+    deflection = abs(float(u_free[tip, 1]))
+    assert deflection > 0.1  # far beyond the cap: the test can tell
+    assert it_free < deflection / 0.01 <= it_cap
+    np.testing.assert_allclose(u_cap, u_free, rtol=0.0, atol=1e-8 * deflection)

@@ -90,9 +90,10 @@ class Integrator:
     every closed contact point in the stick or slip status of the last converged step;
     the later ones use the return mapping, and only they can converge (0: off; see
     :func:`newton.newton`). Must be below ``max_iter``.
-    max_correction: largest nodal translation (mm) of a Newton correction's first trial;
-    a larger correction is scaled down to it before the line search (inf: off; see
-    ``max_move`` in :func:`newton.newton`).
+    max_correction: largest translation among the unknowns (mm) of a Newton correction's
+    first trial; a larger correction is scaled down to it before the line search (inf:
+    off; see ``max_move`` in :func:`newton.newton`). The predictor is not capped; with
+    ``predictor="constant"`` the first correction is.
     """
 
     alpha: float = -0.05

@@ -20,6 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler.errors import InputError
 from bristlecrawler.fe import banded
 from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, STALLED, SUCCESS
 
@@ -58,13 +59,16 @@ def newton(
     rotation in stick and frees it in slip, so full Newton corrections alternate).
 
     ``max_move`` (static, mm; inf: off): the first trial of each correction after the
-    predictor is scaled down so that no nodal translation (the reduced unknowns of x and
-    y) moves by more than ``max_move``; the halvings start from there and stop at the
-    same floor, ``2**-max_backtracks`` of the whole correction. A contact residual is
-    curved on the scale of its penalty (microns): a correction that moves a bristle tip
-    by millimetres, through the substrate, raised |R| a thousandfold and took all
-    eight halvings to find that even 1/256 of it does not decrease |R|; a trust region
-    reaches that scale in a few trials.
+    predictor is scaled down so that no translation among the unknowns (the reduced
+    unknowns of x and y; nodes tied to them by rigid links are not counted) moves by
+    more than ``max_move``; the halvings, if the trial fails, start from there and stop
+    at the same floor, ``2**-max_backtracks`` of the whole correction. A fixed cap (a
+    trust region of constant radius): after the predictor, Newton moves by at most
+    ``max_move`` per iteration, so an attempt cannot travel further than ``max_iter``
+    times it. A contact residual is curved on the scale of its penalty (microns): a
+    correction that moved a bristle tip by millimetres, through the substrate, raised
+    |R| a thousandfold and took all eight halvings to find that even 1/256 of it does
+    not decrease |R|; the cap reaches that scale in a few trials.
 
     ``stall`` (static, 0: off): give up, with status STALLED, once ``stall`` iterations
     have passed without the residual halving (below half the last residual that did).
@@ -105,9 +109,9 @@ def newton(
 
     R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
     floor = 0.5**max_backtracks  # smallest trial, a fraction of the whole correction
+    if not max_move > 0.0:  # also NaN
+        raise InputError(f"max_move must be > 0 mm, got {max_move}")
     if math.isfinite(max_move):
-        if not max_move > 0.0:
-            raise ValueError(f"max_move must be > 0 mm, got {max_move}")
         translation = jnp.asarray(np.asarray(topo.arrays()["red"])[:, 1] < 2)
 
     # The stalled-iterate test must not accept a run-away iterate, whose corrections are
