@@ -93,3 +93,36 @@ def test_forces_are_the_friction_scale_and_dissipation_never_decreases(run):
     assert np.min(step_errors) >= -sc.solver.energy_tol * (1 + 1e-9)
     assert np.max(step_errors) <= sc.solver.energy_loss_tol * (1 + 1e-9)
     assert 1.0 < h.stats["first_frequency_hz"] < 1e3
+
+
+def test_runs_of_one_structure_share_the_observer_and_use_their_own_laws():
+    """The observer is built once per model structure, so a second run in the same
+    process does not trace it again; the contact law it reports penalty energies with is
+    the run's own (read from the parameters, not frozen into the first run's program)."""
+    import dataclasses
+
+    import jax.numpy as jnp
+
+    from bristlecrawler import fe
+    from bristlecrawler.crawler.model import build_crawler
+    from bristlecrawler.crawler.run import _observer
+
+    sc, _ = _run(0)
+    cms = [build_crawler(sc), build_crawler(apply_overrides(sc, ["contact.stick_drift=3e-3"]))]
+    assert _observer(cms[0]) is _observer(cms[1])
+    state = fe.initial_state(cms[0].model)
+    p_n, f_t = 0.3, 0.1  # N, on every contact point
+    hist = tuple(
+        dataclasses.replace(h, p_n=jnp.full_like(h.p_n, p_n), f_t=jnp.full_like(h.f_t, f_t))
+        for h in state.history
+    )
+    state = dataclasses.replace(state, history=hist)
+    n = sum(h.p_n.size for h in hist)
+    pens = []
+    for cm in cms:
+        law = cm.model.params.extra[0].law
+        expect = n * (0.5 * p_n**2 / float(law.k_n) + 0.5 * f_t**2 / float(law.k_t))
+        pen = float(_observer(cm)(state, cm.model.params)["energies"][4])
+        assert pen == pytest.approx(expect, rel=1e-12)
+        pens.append(pen)
+    assert pens[1] > pens[0]  # the softer stick penalty stores more energy
