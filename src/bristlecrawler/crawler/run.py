@@ -107,7 +107,7 @@ class _Failed(Exception):
 def _observer(cm: CrawlerModel):
     """The record of a state, jitted once per model structure: a run of a structure
     already run in this process (a benchmark's second run, a sweep's next design) traces
-    and loads nothing again (it took 1.4 s per run when every run built its own)."""
+    and loads nothing again (2.1-2.4 s per run when every run built its own)."""
     m = cm.model
     return _make_observer(m.topology, m.terms, cm.left, cm.right, cm.right_subtree, cm.tip_points)
 
