@@ -98,6 +98,10 @@ def main() -> None:
     ap.add_argument("--runs", nargs=2, type=Path, metavar=("SIN2_DIR", "SMA_DIR"))
     ap.add_argument("--out", type=Path, default=Path("runs") / "quasi_static_fe.png")
     a = ap.parse_args()
+    for folder in a.runs or ():
+        if not (folder / "crawler.nc").is_file():
+            why = "no crawler.nc (not a `bristlecrawler simulate` run folder)"
+            ap.exit(2, f"error: {folder}: {why}\n")
     sin2_dir, sma_dir = a.runs if a.runs else run_pair(Path("runs"))
     rows = compare(sin2_dir, sma_dir, a.out)
     print(f"{'history':>8} {'s peak':>8} {'Delta peak':>11} {'Delta end':>10} {'balance':>8}")
