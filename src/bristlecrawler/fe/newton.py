@@ -107,7 +107,13 @@ def newton(
     def first(it):
         return (it == 0) if predict is not None else jnp.asarray(False)
 
-    R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
+    if predict is None:
+        R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
+    else:
+        # Iteration 0 (the predictor) always runs and takes the residual at q0 from its own
+        # linearisation: no separate evaluation (one residual less per step).
+        R0 = jnp.zeros_like(q0)
+        F0 = jnp.ones((), q0.dtype)
     floor = 0.5**max_backtracks  # smallest trial, a fraction of the whole correction
     if not max_move > 0.0:  # also NaN
         raise InputError(f"max_move must be > 0 mm, got {max_move}")
@@ -144,8 +150,9 @@ def newton(
             dq = -banded.solve(J, R, topo)
         else:
             tc = jnp.where(pred, tc0, tc1)
-            _, J, Rt = banded.extract(lambda q, tc: res_t(q, tc, fz)[0], q, topo, tc, dt)
-            dq = -banded.solve(J, R + jnp.where(pred, Rt, 0.0), topo)
+            y, J, Rt = banded.extract(lambda q, tc: res_t(q, tc, fz)[0], q, topo, tc, dt)
+            R = jnp.where(pred, y + Rt, R)
+            dq = -banded.solve(J, R, topo)
             dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
         if monotone:
             bound = jnp.linalg.norm(R)
