@@ -133,6 +133,27 @@ def test_predictor_is_newtons_first_iteration():
     assert int(it) == 1 and int(status) == SUCCESS
 
 
+def test_predictor_from_a_state_off_the_root_includes_its_residual():
+    """A linear residual R = A q - b t (A diagonal, from 1 to 3): from any q0 the predictor
+    J dq = -(R(q0, t0) + dR/dt dt) lands exactly on the root at t1, so Newton ends after
+    it. The predictor reads R(q0, t0) from its own linearisation (no separate residual
+    evaluation): a predictor that missed it would land at q0 + b dt / A instead."""
+    topo = cantilever().topology
+    a = jnp.linspace(1.0, 3.0, topo.n_red)
+    b = 0.8
+
+    def linear(q, tc):
+        return a * q - b * tc, jnp.asarray(1.0)
+
+    t0, t1 = jnp.asarray(0.4), jnp.asarray(0.9)
+    q0 = jnp.linspace(-0.7, 1.3, topo.n_red)  # far from the root b t0 / a
+    q, it, rn, _, status = newton(
+        linear, q0, topo, predict=(t0, t1, t1 - t0), rtol=1e-12, atol=0.0, max_iter=5
+    )
+    assert int(status) == SUCCESS and int(it) == 1
+    np.testing.assert_allclose(np.asarray(q), np.asarray(b * t1 / a), rtol=1e-13)
+
+
 def _two_laws(q, freeze=False):
     """R(q) = arctan(q - 0.5) per DOF, and with ``freeze`` another law, arctan(q - 2):
     a frozen residual whose root is not the free one's."""
