@@ -147,7 +147,7 @@ def test_predictor_from_a_state_off_the_root_includes_its_residual():
 
     t0, t1 = jnp.asarray(0.4), jnp.asarray(0.9)
     q0 = jnp.linspace(-0.7, 1.3, topo.n_red)  # far from the root b t0 / a
-    q, it, rn, _, status = newton(
+    q, it, _, _, status = newton(
         linear, q0, topo, predict=(t0, t1, t1 - t0), rtol=1e-12, atol=0.0, max_iter=5
     )
     assert int(status) == SUCCESS and int(it) == 1

@@ -81,7 +81,8 @@ class RunOptions:
     step grows by ``grow`` after a step that took <= ``easy_iterations`` Newton iterations;
     driver: "host" (:func:`fe.make_host_driver`, the loop in Python), "compiled"
     (:func:`fe.make_driver`, one XLA loop) or "auto" (host on a CPU, compiled elsewhere: on
-    a CPU the compiled loop is 5-7 times slower for this model, see make_host_driver)."""
+    a CPU both now take the same time per run, but the compiled loops take longer to
+    compile and to load from the cache; see make_host_driver)."""
 
     contact: str | None = None
     dt0: float = 1e-3

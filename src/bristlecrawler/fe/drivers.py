@@ -4,8 +4,9 @@ Both take steps with the rules of :func:`dynamics.integrate` (halve on failure, 
 easy steps, stay within [dt_min, dt_max]) and record an observer after every accepted
 step (and, given a ``check``, reject a converged step whose error estimate the check
 refuses): :func:`make_driver` as one compiled XLA loop (the form for a GPU and for ``vmap``
-batches), :func:`make_host_driver` as a host loop around the compiled step (faster on a
-CPU for models with contact terms). :func:`driver_start` makes the first carry.
+batches), :func:`make_host_driver` as a host loop around the compiled step (the smaller
+program to compile on a CPU; as fast per run there). :func:`driver_start` makes the first
+carry.
 """
 
 from __future__ import annotations
@@ -140,11 +141,17 @@ def make_host_driver(
     failed)``, the buffer holding the ``n_recorded`` rows only), but each step is one call
     of the compiled :func:`make_step` and the observer.
 
-    Why both: on a CPU the compiled loop around the paper crawler's step (contact terms,
-    line search, predictor) ran 5 to 7 times slower per Newton iteration than the same step
-    called from the host (0.3 s of the gravity step: 14.1 s against 1.5 s, same 47 steps;
-    XLA CPU, jax 0.10.2), while for the contact-free chains of ``bench_fe_core`` the two
-    cost the same. The compiled driver is the form for a GPU and for ``vmap`` batches.
+    Why both: on a CPU the host loop is the cheaper program to build. On the code of
+    2026-11-24 the compiled loop around the paper crawler's step ran 5 to 7 times slower
+    per Newton iteration than the same step called from the host (0.3 s of the gravity
+    step: 14.1 s against 1.5 s, same 47 steps; XLA CPU, jax 0.10.2). On the code of
+    2026-11-26 (a step program half the size) the two take the same time with the same
+    iterates: five cycles of `paper`, 30.8 and 31.8 s of stroke against 30.6-34.7 s
+    (alternated runs). But the compiled drivers (one for the gravity step, one with the
+    energy check for the stroke) each hold the step: the first run compiled for 77 s
+    more, and loading the stroke's loop from the persistent cache took about 10 s where
+    the step alone loads in 8-9 s. The compiled driver is the form for a GPU and for
+    ``vmap`` batches.
     """
     step = make_step(topo, terms, integrator)
     obs = jax.jit(observe)
