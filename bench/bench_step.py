@@ -56,10 +56,10 @@ def _capture(scenario: str, sets: list[str], every: int, stop: bool = False):
         steps.append(step)
 
         def wrapped(state, params, dt):
-            if stop and float(state.t) > settle:
+            if stop and float(state.t) >= settle - 1e-9:
                 raise _Stop
             new, info = step(state, params, dt)
-            if float(state.t) > settle:  # the stroke only
+            if float(state.t) >= settle - 1e-9:  # the stroke only
                 seen[0] += 1
                 if seen[0] % every == 0:
                     rec = (state, params, dt, int(info.iterations), int(info.status))
@@ -112,11 +112,32 @@ def main() -> None:
     from bristlecrawler.fe import enable_compilation_cache
 
     enable_compilation_cache()
+    from bristlecrawler.errors import InputError, SolverError
+    from bristlecrawler.jobs.simulate import apply_overrides
+    from bristlecrawler.scenario.load import load_scenario
+
     if a.save is not None:
-        sets = [*a.sets, f"actuation.cycles={a.cycles}"]
-        attempts, step = _capture(a.scenario, sets, a.every)
-        a.save.parent.mkdir(parents=True, exist_ok=True)
+        # --cycles first, so that a --set of actuation.cycles wins.
+        sets = [f"actuation.cycles={a.cycles}", *a.sets]
+        try:
+            apply_overrides(load_scenario(a.scenario), sets)  # bad input: before the run
+        except InputError as e:
+            _fail(str(e))
         tmp = a.save.with_name(a.save.name + ".part")
+        try:  # an unusable path: before the run, not after it
+            a.save.parent.mkdir(parents=True, exist_ok=True)
+            if a.save.is_dir():
+                raise IsADirectoryError(f"{a.save} is a folder")
+            tmp.write_bytes(b"")
+            tmp.unlink()
+        except OSError as e:
+            _fail(f"--save {a.save}: {e}")
+        try:
+            attempts, step = _capture(a.scenario, sets, a.every)
+        except SolverError as e:
+            _fail(f"the run failed: {e}")
+        if not attempts or step is None:
+            _fail("no stroke attempt was kept (a smaller --every?)")
         tmp.write_bytes(pickle.dumps({"scenario": a.scenario, "sets": sets, "attempts": attempts}))
         tmp.replace(a.save)
         print(f"kept {len(attempts)} attempts of {a.scenario} {sets} in {a.save}")
@@ -126,19 +147,24 @@ def main() -> None:
         try:
             saved = pickle.loads(a.load.read_bytes())
             attempts, sets = saved["attempts"], saved["sets"]
-        except Exception as e:
+            scenario = saved["scenario"]
+        except Exception as e:  # any unreadable file gets one line
             _fail(f"--load {a.load}: not a file of bench_step.py ({e})")
+        if not attempts:
+            _fail(f"--load {a.load}: it holds no attempts")
         # The compiled step of the saved scenario: a run of it up to its first stroke step.
-        _, step = _capture(saved["scenario"], sets, 1, stop=True)
-    if not attempts or step is None:
-        _fail("no stroke attempt was kept (a shorter --every?)")
+        try:
+            _, step = _capture(scenario, sets, 1, stop=True)
+        except (InputError, SolverError) as e:
+            _fail(f"--load {a.load}: its scenario does not run here: {e}")
 
     head = f"{'t (s)':>9} {'dt (s)':>9} {'its':>4} {'ms':>8} {'ms/iter':>8}"
     print(head)
     print("-" * len(head))
     its, ms = [], []
     for state, params, dt, _, _ in attempts:
-        dt = jnp.asarray(dt)
+        # On the device before the timed calls (the pickle holds host arrays).
+        state, params, dt = jax.device_put((state, params, jnp.asarray(dt)))
         new, info = step(state, params, dt)
         jax.block_until_ready(new)
         best = np.inf

@@ -84,6 +84,16 @@ def test_stall_leaves_a_converging_newton_alone():
     np.testing.assert_array_equal(np.asarray(a[0]), np.asarray(b[0]))
 
 
+def test_max_iter_below_one_is_refused():
+    """With no iteration allowed the result would be the start's, reported as solved
+    from a placeholder residual: refused before any work."""
+    topo = cantilever().topology
+    q0 = jnp.full(topo.n_red, 5.0)
+    for bad in (0, -1, 2.5):
+        with pytest.raises(InputError, match="max_iter"):
+            newton(_drifting, q0, topo, predict=(0.0, 1.0, 1.0), rtol=1e-9, atol=0.0, max_iter=bad)
+
+
 def test_negative_stall_is_refused():
     with pytest.raises(InputError, match="stall"):
         Integrator.hht(stall=-1)

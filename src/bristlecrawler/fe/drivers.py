@@ -150,7 +150,7 @@ def make_host_driver(
     (alternated runs). But the compiled drivers (one for the gravity step, one with the
     energy check for the stroke) each hold the step: the first run compiled for 77 s
     more, and loading the stroke's loop from the persistent cache took about 10 s where
-    the step alone loads in 8-9 s. The compiled driver is the form for a GPU and for
+    the step alone loads in 7-9 s. The compiled driver is the form for a GPU and for
     ``vmap`` batches.
     """
     step = make_step(topo, terms, integrator)

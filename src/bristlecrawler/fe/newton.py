@@ -15,6 +15,7 @@ Converged when |R| <= rtol F + atol, F the force scale returned by the residual.
 from __future__ import annotations
 
 import math
+import numbers
 
 import jax
 import jax.numpy as jnp
@@ -107,6 +108,10 @@ def newton(
     def first(it):
         return (it == 0) if predict is not None else jnp.asarray(False)
 
+    if not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
+        # Also required by the predictor: iteration 0 must run, since the start's residual
+        # comes from its linearisation.
+        raise InputError(f"max_iter must be a whole number >= 1, got {max_iter!r}")
     if predict is None:
         R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
     else:
