@@ -35,18 +35,15 @@ import time
 from pathlib import Path
 
 
-def _capture(scenario: str, sets: list[str], every: int, stop: bool = False):
-    """Run the scenario and keep every ``every``-th stroke attempt. Returns (attempts,
-    step): attempts as (state, params, dt, iterations, status) on the host. ``stop``: end
-    the run at its first stroke attempt (to get the compiled step only)."""
+def _capture(sc, every: int, stop: bool = False):
+    """Run the scenario ``sc`` and keep every ``every``-th stroke attempt. Returns
+    (attempts, step): attempts as (state, params, dt, iterations, status) on the host.
+    ``stop``: end the run at its first stroke attempt (to get the compiled step only)."""
     import jax
 
     import bristlecrawler.fe.drivers as drivers
     from bristlecrawler.crawler.run import RunOptions, simulate_crawler
-    from bristlecrawler.jobs.simulate import apply_overrides
-    from bristlecrawler.scenario.load import load_scenario
 
-    sc = apply_overrides(load_scenario(scenario), sets)
     settle = float(sc.actuation.settle_time)
     kept, seen, steps = [], [0], []
     make = drivers.make_step
@@ -56,10 +53,11 @@ def _capture(scenario: str, sets: list[str], every: int, stop: bool = False):
         steps.append(step)
 
         def wrapped(state, params, dt):
-            if stop and float(state.t) >= settle - 1e-9:
+            stroke = float(state.t) >= settle - 1e-9  # the gravity step ends at settle
+            if stop and stroke:
                 raise _Stop
             new, info = step(state, params, dt)
-            if float(state.t) >= settle - 1e-9:  # the stroke only
+            if stroke:
                 seen[0] += 1
                 if seen[0] % every == 0:
                     rec = (state, params, dt, int(info.iterations), int(info.status))
@@ -120,7 +118,7 @@ def main() -> None:
         # --cycles first, so that a --set of actuation.cycles wins.
         sets = [f"actuation.cycles={a.cycles}", *a.sets]
         try:
-            apply_overrides(load_scenario(a.scenario), sets)  # bad input: before the run
+            sc = apply_overrides(load_scenario(a.scenario), sets)  # bad input: before the run
         except InputError as e:
             _fail(str(e))
         tmp = a.save.with_name(a.save.name + ".part")
@@ -133,7 +131,7 @@ def main() -> None:
         except OSError as e:
             _fail(f"--save {a.save}: {e}")
         try:
-            attempts, step = _capture(a.scenario, sets, a.every)
+            attempts, step = _capture(sc, a.every)
         except SolverError as e:
             _fail(f"the run failed: {e}")
         if not attempts or step is None:
@@ -154,7 +152,7 @@ def main() -> None:
             _fail(f"--load {a.load}: it holds no attempts")
         # The compiled step of the saved scenario: a run of it up to its first stroke step.
         try:
-            _, step = _capture(scenario, sets, 1, stop=True)
+            _, step = _capture(apply_overrides(load_scenario(scenario), sets), 1, stop=True)
         except (InputError, SolverError) as e:
             _fail(f"--load {a.load}: its scenario does not run here: {e}")
 

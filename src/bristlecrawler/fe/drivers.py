@@ -141,17 +141,12 @@ def make_host_driver(
     failed)``, the buffer holding the ``n_recorded`` rows only), but each step is one call
     of the compiled :func:`make_step` and the observer.
 
-    Why both: on a CPU the host loop is the cheaper program to build. On the code of
-    2026-11-24 the compiled loop around the paper crawler's step ran 5 to 7 times slower
-    per Newton iteration than the same step called from the host (0.3 s of the gravity
-    step: 14.1 s against 1.5 s, same 47 steps; XLA CPU, jax 0.10.2). On the code of
-    2026-11-26 (a step program half the size) the two take the same time with the same
-    iterates: five cycles of `paper`, 30.8 and 31.8 s of stroke against 30.6-34.7 s
-    (alternated runs). But the compiled drivers (one for the gravity step, one with the
-    energy check for the stroke) each hold the step: the first run compiled for 77 s
-    more, and loading the stroke's loop from the persistent cache took about 10 s where
-    the step alone loads in 7-9 s. The compiled driver is the form for a GPU and for
-    ``vmap`` batches.
+    Why both: per run the two cost the same on a CPU with the same iterates (five cycles
+    of `paper`: 30.8-31.8 s of stroke against 30.6-34.7 s, 2026-11-26; on the code of
+    2026-11-24 the compiled loop was 5 to 7 times slower), but each compiled loop holds
+    the whole step, so it takes longer to compile and to load from the cache. The host
+    loop is the CPU default; the compiled driver is the form for a GPU and for ``vmap``
+    batches (docs/fe-crawler-investigation.md, twelfth session).
     """
     step = make_step(topo, terms, integrator)
     obs = jax.jit(observe)
