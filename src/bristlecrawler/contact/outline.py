@@ -154,11 +154,23 @@ def _pair(P, arc, side, C, rho):
     the FE Newton, costs four points per pair instead of the whole outline.
     """
     n = P.shape[0] - 1
-    i, k, m, found, seg_wins, vsign = _select(
-        jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C)
-    )
+    sel = _select(jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C))
+    i, k, m = sel[:3]
     # Segment i: its end points and the neighbouring ones that set the vertex normals.
     Q = P[jnp.stack([(i - 1) % n, i, i + 1, (i + 2) % n])]
+    ends = (arc[i], arc[i + 1], arc[k], arc[m], arc[m + 1])
+    return _features(Q, P[k], P[m], P[m + 1], ends, side, C, rho, sel)
+
+
+def _features(Q, Pk, Pm, Pm1, ends, side, C, rho, sel):
+    """Gap (mm) and reference arc coordinate (mm) of :func:`_pair` on the feature ``sel``
+    (:func:`_select`) chose: ``Q`` the outline points i - 1 ... i + 2 around segment i,
+    ``Pk`` the sharp vertex k, ``Pm``, ``Pm1`` the ends of the fallback segment m, and
+    ``ends`` the reference arc of points i, i + 1, k, m, m + 1. Only these points enter
+    the values and their derivatives, whatever the outline
+    (:class:`~bristlecrawler.contact.corner.FaceCornerContact` linearises a pair on them)."""
+    _, _, _, found, seg_wins, vsign = sel
+    arc_i, arc_i1, arc_k, arc_m, arc_m1 = ends
     # Normals of segments i - 1, i, i + 1 and the blended normals at vertices i, i + 1
     # (computed one by one: a cyclic roll over Q would blend segments i - 1 and i + 1,
     # opposite faces of a thin end, whose zero sum makes second derivatives NaN).
@@ -181,24 +193,23 @@ def _pair(P, arc, side, C, rho):
     A, B = Q[1], Q[2]
     t = _fan(A, B, nA, nB, C)
     g_seg = _held_gap(A, B, nA, nB, C, t)
-    s_seg = arc[i] + t * (arc[i + 1] - arc[i])
+    s_seg = arc_i + t * (arc_i1 - arc_i)
     # Sharp vertex k: distance, signed by the pseudo-normal.
-    dv = C - P[k]
+    dv = C - Pk
     dv2 = jnp.sum(dv * dv)
     ok = dv2 > 1e-30
     vdist = jnp.where(ok, jnp.sqrt(jnp.where(ok, dv2, 1.0)), 0.0)
     # Fallback where no fan and no sharp vertex reaches C (far outside a smooth outline):
     # the distance to the nearest segment.
-    Am, Bm = P[m], P[m + 1]
-    abm = Bm - Am
-    tc = jnp.clip(jnp.dot(C - Am, abm) / jnp.maximum(jnp.dot(abm, abm), 1e-300), 0.0, 1.0)
-    dc = C - (Am + tc * abm)
+    abm = Pm1 - Pm
+    tc = jnp.clip(jnp.dot(C - Pm, abm) / jnp.maximum(jnp.dot(abm, abm), 1e-300), 0.0, 1.0)
+    dc = C - (Pm + tc * abm)
     dc2 = jnp.sum(dc * dc)
     okc = dc2 > 1e-30
     g_far = jnp.where(okc, jnp.sqrt(jnp.where(okc, dc2, 1.0)), 0.0)
     g = jnp.where(found, jnp.where(seg_wins, g_seg, vsign * vdist), g_far) - rho
-    s_far = arc[m] + tc * (arc[m + 1] - arc[m])
-    s = jnp.where(found, jnp.where(seg_wins, s_seg, arc[k]), s_far)
+    s_far = arc_m + tc * (arc_m1 - arc_m)
+    s = jnp.where(found, jnp.where(seg_wins, s_seg, arc_k), s_far)
     return g, s
 
 

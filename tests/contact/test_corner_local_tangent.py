@@ -1,0 +1,207 @@
+"""The corner term's tangent assembled from each pair's four outline points
+(:func:`bristlecrawler.contact.corner._near_forces`) against the derivative through the
+whole outline (``local_tangent=False``, plain autodiff of the same residual)."""
+
+import dataclasses
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from hypothesis import assume, example, given, settings
+from hypothesis import strategies as st
+
+from bristlecrawler import fe
+from bristlecrawler.contact import CoulombLaw, Grooves
+from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
+
+N_EL = 12
+LENGTH = 6.0
+THICK = 0.5
+
+
+def _strip(law):
+    """A free strip 6 mm long and 0.5 mm thick whose lower face lies on the land level,
+    above grooves 1 mm wide every 2 mm with land edges rounded to 0.02 mm."""
+    s = fe.Structure()
+    a = s.node(0.0, 0.5 * THICK)
+    sec = fe.TaperedRect(E=1.0, b=1.0, h0=THICK, h1=THICK, rho=1e-9, nu=0.3)
+    nodes = s.chain(a, (LENGTH, 0.5 * THICK), N_EL, sec)
+    outline, off = beam_outline(nodes, np.full(len(nodes), THICK), (0.0, 1.0))
+    term = FaceCornerContact((outline,), 6)
+    sub = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=0.25, fillet_top=0.02)
+    p = FaceCornerContact.params(np.asarray(s._X), (outline,), [off], sub, law)
+    return np.asarray(s._X)[:, :2], term, p
+
+
+def _placed(X, edge, offset, theta, depth, noise, rng, term=None, p=None):
+    """Displacements (n, 3) turning the strip by ``theta`` about its tip and moving its
+    lowest face point to ``offset`` mm right of the land edge at x = ``edge``, plus
+    random bending of amplitude ``noise`` (mm; rotations noise / 0.3); then, given the
+    ``term`` and its parameters ``p``, down until its deepest pair with the corners
+    penetrates by ``depth`` mm."""
+    c, s = math.cos(theta), math.sin(theta)
+    tip = X[-1]
+    x = (X - tip) @ np.array([[c, -s], [s, c]]).T + tip
+    normal = 0.5 * THICK * np.array([-s, c])
+    faces = np.concatenate([x + normal, x - normal])
+    low = faces[np.argmin(faces[:, 1])]
+    x += np.array([edge + offset, 0.0]) - low
+    u = np.zeros((len(X), 3))
+    u[:, :2] = x - X
+    u[:, 2] = theta
+    u += rng.uniform(-1.0, 1.0, u.shape) * noise * np.array([1.0, 1.0, 1.0 / 0.3])
+    for _ in range(4 if term is not None else 0):  # the closest feature may change
+        g, _ = term._gs(jnp.asarray(u), term._k0(jnp.asarray(u), p), p)
+        u[:, 1] -= float(jnp.min(g)) + depth
+    return jnp.asarray(u)
+
+
+def _programs(term, p):
+    local, whole = term, dataclasses.replace(term, local_tangent=False)
+
+    def make(t):
+        def f(u, h, freeze):
+            return t.residual(u, jnp.zeros_like(u), 0.0, h, p, freeze)
+
+        return jax.jit(f), jax.jit(jax.jacfwd(f))
+
+    return make(local), make(whole), jax.jit(term.history_at), jax.jit(term.commit)
+
+
+LAW = CoulombLaw.for_reference_load(0.5, load=1.0)
+_CACHE = {}
+
+
+def _setup(law=LAW):
+    key = tuple(float(v) for v in (law.mu, law.k_n, law.k_t))
+    if key not in _CACHE:
+        X, term, p = _strip(law)
+        _CACHE[key] = (X, term, p, *_programs(term, p))
+    return _CACHE[key]
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    edge=st.sampled_from([6.25, 7.25]),
+    offset=st.floats(-0.05, 0.05),
+    theta=st.floats(-0.8, 0.1),
+    depth=st.floats(2e-4, 3e-3),
+    slip=st.floats(0.0, 3.0),
+    freeze=st.booleans(),
+    seed=st.integers(0, 2**31 - 1),
+)
+@example(edge=7.25, offset=-0.01, theta=0.02, depth=2e-3, slip=1.0, freeze=False, seed=1)
+@example(edge=6.25, offset=0.01, theta=-0.03, depth=3e-3, slip=2.0, freeze=True, seed=2)
+@example(edge=7.25, offset=0.0, theta=0.0, depth=2e-3, slip=0.5, freeze=False, seed=3)
+def test_local_tangent_equals_the_whole_outline_derivative(
+    edge, offset, theta, depth, slip, freeze, seed
+):
+    """Strips pressed onto the rounded land edges at random places and tilts (a tip
+    corner, the end face or the lower face on an edge), bent a little, with stick
+    anchors moved at random by up to ``slip`` times the elastic slip limit (pairs in
+    stick and in slip, both directions), with and without frozen statuses: the
+    residuals are the same, and the local tangent is the derivative through the whole
+    outline to round-off."""
+    X, term, p, (f_loc, K_loc), (f_all, K_all), fresh, commit = _setup()
+    rng = np.random.default_rng(seed)
+    u = _placed(X, edge, offset, theta, depth, 0.05 * depth, rng, term, p)
+    h = fresh(u, p)
+    limit = float(LAW.mu * LAW.k_n * depth / LAW.k_t)
+    h = dataclasses.replace(h, anchor=h.anchor + rng.uniform(-slip, slip, h.anchor.shape) * limit)
+    h = dataclasses.replace(h, state=commit(u, u, 0.0, h, p).state)
+    r_loc, r_all = np.asarray(f_loc(u, h, freeze)), np.asarray(f_all(u, h, freeze))
+    assume(np.abs(r_all).max() > 0)  # something touches (not where the closest feature jumps)
+    np.testing.assert_array_equal(r_loc, r_all)
+    Kl, Ka = np.asarray(K_loc(u, h, freeze)), np.asarray(K_all(u, h, freeze))
+    scale = np.abs(Ka).max()
+    assert scale > 0
+    np.testing.assert_allclose(Kl, Ka, rtol=0, atol=1e-10 * scale)
+
+
+def test_local_tangent_lacks_the_stretch_of_segments_beyond_its_window():
+    """The documented limit: a pair whose stick anchor lies more than a segment away from
+    its closest point (possible only with a stick band wider than a segment: here k_t is
+    so soft that a 0.8 mm elastic slip sticks) pulls on the segments in between; the
+    residual still has that force, the local tangent lacks its derivative, a stiffness
+    of the order of k_t."""
+    soft = CoulombLaw(mu=0.5, k_n=1000.0, k_t=1.0)
+    X, term, p, (f_loc, K_loc), (f_all, K_all), fresh, commit = _setup(soft)
+    u = _placed(X, 7.5, 0.0, 0.0, 2e-3, 0.0, np.random.default_rng(0), term, p)
+    h = fresh(u, p)
+    h = dataclasses.replace(h, anchor=h.anchor - 0.8)  # more than three segments of 0.25 mm
+    h = dataclasses.replace(h, state=commit(u, u, 0.0, h, p).state)
+    assert np.any(np.asarray(h.state) == 1)  # in stick
+    np.testing.assert_array_equal(np.asarray(f_loc(u, h, False)), np.asarray(f_all(u, h, False)))
+    Kl, Ka = np.asarray(K_loc(u, h, False)), np.asarray(K_all(u, h, False))
+    assert np.abs(Kl - Ka).max() > 0.1 * float(soft.k_t)
+
+
+def test_derivative_in_the_parameters_is_the_whole_outlines():
+    """A tangent in anything but the displacements (here the friction coefficient and the
+    corner positions) takes the derivative through the whole outline."""
+    X, term, p, _, _, fresh, _ = _setup()
+    u = _placed(X, 6.2, 0.0, 0.01, 2e-3, 1e-4, np.random.default_rng(4), term, p)
+    h = fresh(u, p)
+    h = dataclasses.replace(h, anchor=h.anchor + 1e-4)
+    whole = dataclasses.replace(term, local_tangent=False)
+
+    def seed(leaf):
+        seeded = leaf is p.corners or leaf is p.law.mu
+        return jnp.ones_like(leaf) if seeded else jnp.zeros_like(leaf)
+
+    dp = jax.tree_util.tree_map(seed, p)
+    assert float(dp.law.mu) == 1.0 and float(jnp.min(dp.corners)) == 1.0
+    du = jnp.asarray(np.random.default_rng(5).normal(size=u.shape))
+
+    def jvp(t):
+        return jax.jvp(lambda u, p: t.residual(u, u * 0, 0.0, h, p), (u, p), (du, dp))[1]
+
+    a, b = np.asarray(jvp(term)), np.asarray(jvp(whole))
+    assert np.abs(b).max() > 0
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * np.abs(b).max())
+
+
+def _clamped_strip(local):
+    s = fe.Structure()
+    a = s.node(0.0, 0.5 * THICK - 2e-3)
+    sec = fe.TaperedRect(E=1.0, b=1.0, h0=THICK, h1=THICK, rho=1e-9, nu=0.3)
+    nodes = s.chain(a, (LENGTH, 0.5 * THICK - 2e-3), N_EL, sec)
+    s.fix(a)
+    outline, off = beam_outline(nodes, np.full(len(nodes), THICK), (0.0, 1.0))
+    term = FaceCornerContact((outline,), 6, local_tangent=local)
+    sub = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=0.25, fillet_top=0.02)
+    s.add_term(term, FaceCornerContact.params(np.asarray(s._X), (outline,), [off], sub, LAW))
+    return s.build(), term
+
+
+def test_banded_newton_tangent_equals_the_whole_outline_jacobian():
+    """Through the solver's coloured extraction (the products of the Newton tangent) the
+    local tangent of a clamped strip pressed onto the land edges gives the dense
+    Jacobian of the residual differentiated through the whole outline."""
+    from bristlecrawler.fe import assembly, banded
+
+    rng = np.random.default_rng(7)
+    fns = []
+    for local in (True, False):
+        m, term = _clamped_strip(local)
+        topo, p = m.topology, m.params
+        if not fns:
+            u = rng.uniform(-1.0, 1.0, (topo.n_nodes, 3)) * np.array([3e-4, 3e-4, 1e-3])
+            u = jnp.asarray(u).at[0].set(0.0)
+            h = term.history_at(u, p.extra[0])
+            h = dataclasses.replace(h, anchor=h.anchor + rng.uniform(-3e-4, 3e-4, h.anchor.shape))
+            q = u[np.array([n for n, _ in topo.red]), np.array([d for _, d in topo.red])]
+
+        def fn(q, m=m, topo=topo, p=p, h=h):
+            full = assembly.expand(q, 0.0, 1.0, p, topo)
+            f = assembly.terms_residual(full, jnp.zeros_like(full), 0.0, (h,), p, m.terms)
+            return jax.vjp(lambda q: assembly.expand(q, 0.0, 1.0, p, topo), q)[1](f)[0]
+
+        fns.append((fn, topo))
+    (fn_loc, topo), (fn_all, _) = fns
+    dense = np.asarray(jax.jacfwd(fn_all)(q))
+    n = len(q)
+    band = banded.to_scipy(banded.extract(fn_loc, q, topo)[1], topo).toarray()[:n, :n]
+    assert np.abs(dense).max() > 0
+    np.testing.assert_allclose(band, dense, rtol=0, atol=1e-9 * np.abs(dense).max())
