@@ -70,6 +70,11 @@ from bristlecrawler.errors import InputError
 
 jax.config.update("jax_enable_x64", True)
 
+#: Outline points a pair reads, relative to the first point c of its feature (segment c,
+#: sharp vertex c, fallback segment c): c - 1 ... c + 2 (:func:`~.outline._features`).
+#: The term declares these groups as its couplings, and the local tangent reads them.
+_WINDOW = (-1, 0, 1, 2)
+
 
 def convex_corners(substrate) -> tuple[np.ndarray, np.ndarray, float]:
     """Convex corners of one period of ``substrate``: centres (k, 2) mm, fillet radii (k,)
@@ -163,10 +168,9 @@ class FaceCornerContact:
 
     ``tangent_pairs``: pairs per outline whose forces are differentiated (see
     :meth:`residual`). ``local_tangent``: assemble their derivative from each pair's
-    stiffness on its four outline points (:func:`_near_forces`; the same tangent to
-    round-off while a stick anchor lies within a segment of its closest point, and about
-    a third less time per Newton iteration of the paper crawler) rather than by
-    differentiating through the whole outline (False: for comparison)."""
+    stiffness on its four outline points (:func:`_near_forces`, which states where it
+    is exact; about a third less time per Newton iteration of the paper crawler) rather
+    than by differentiating through the whole outline (False: for comparison)."""
 
     faces: tuple[tuple[int, ...], ...]
     periods: int
@@ -277,7 +281,7 @@ class FaceCornerContact:
         for face in self.faces:
             n = len(face) - 1
             for i in range(n):
-                groups.add(tuple(sorted({face[(i + d) % n] for d in (-1, 0, 1, 2)})))
+                groups.add(tuple(sorted({face[(i + d) % n] for d in _WINDOW})))
         return tuple(sorted(groups))
 
     def _current(self, u, k0, anchor, params):
@@ -319,7 +323,7 @@ class FaceCornerContact:
         # The feature's first point: segment i, sharp vertex k or fallback segment m; its
         # pair reads the outline points c - 1 ... c + 2 (the coupling groups declared).
         c = jnp.where(found, jnp.where(seg_wins, i, k), m)
-        raw = c[..., None] + jnp.arange(-1, 3)  # (F, k, 4)
+        raw = c[..., None] + jnp.asarray(_WINDOW)  # (F, k, 4)
         idx = raw % n
         f = jnp.arange(len(self.faces))[:, None, None]
         nodes = jnp.asarray(self.faces)[f, idx]
@@ -334,7 +338,11 @@ class FaceCornerContact:
                 ends = (arcw[1], arcw[2], arcw[1], arcw[1], arcw[2])
                 g, s = _features(Pw, Pw[1], Pw[1], Pw[2], ends, side, C, rho, sel)
                 # Current length from the anchor to the closest point along the window's
-                # three segments (current_arc's difference wherever both lie in them).
+                # three segments: current_arc's difference wherever both lie in them, in a
+                # form without its search (a sum over the three segments). An anchor
+                # across the outline's closing point (the clamp section, where no corner
+                # reaches) is not unwrapped; the whole outline's arc is not periodic there
+                # either.
                 seg = Pw[1:] - Pw[:-1]
                 L = jnp.sqrt(jnp.maximum(jnp.sum(seg * seg, axis=-1), 1e-300))
                 lo, da = arcw[:-1], arcw[1:] - arcw[:-1]
@@ -343,8 +351,10 @@ class FaceCornerContact:
                     return jnp.sum(L * jnp.clip((x - lo) / da, 0.0, 1.0))
 
                 d = cur(s) - cur(a)
-                # The values of the whole outline's evaluation, the derivatives of this one.
-                return g + jax.lax.stop_gradient(g0 - g), d + jax.lax.stop_gradient(d0 - d)
+                # The values of the whole outline's evaluation (exactly, so the friction
+                # branch is the residual's), the derivatives of this one.
+                sg = jax.lax.stop_gradient
+                return sg(g0) + (g - sg(g)), sg(d0) + (d - sg(d))
 
             (g, d), pull = jax.vjp(geometry, uw)
             fg, fs = generalized_forces(g, d, 0.0, params.law, mode=mode)
@@ -481,9 +491,10 @@ def _near_forces(term, u, C, rho, anchor, params, mode):
     whole outline.
 
     The values are the same. The derivative is the same wherever a pair's stick anchor
-    lies on the three segments around its feature (the couplings the term declares; a
-    step slides a corner along a face by a fraction of a segment); beyond, it lacks the
-    other segments' stretch, as the banded tangent would. A tangent that is a product
+    lies on the three segments around its feature (a step slides a corner along a face by
+    a fraction of a segment); beyond, it lacks the stretch of the segments in between:
+    couplings outside the groups the term declares, which the banded colouring could not
+    hold anyway (they would alias into other entries of their colour). A tangent that is a product
     through the whole outline (jacfwd of the residual, the coloured JVPs of the Newton
     tangent) then costs a gather, one 12 x 12 product per pair and a scatter per seed.
     Any other argument's tangent (not zero) takes the whole outline's derivative.
@@ -491,11 +502,12 @@ def _near_forces(term, u, C, rho, anchor, params, mode):
     return term._force(u, C, rho, anchor, params, mode)
 
 
+def _symbolic_zero(x) -> bool:
+    return isinstance(x, SymbolicZero)
+
+
 def _is_zero(t) -> bool:
-    return all(
-        isinstance(x, SymbolicZero)
-        for x in jax.tree_util.tree_leaves(t, is_leaf=lambda x: isinstance(x, SymbolicZero))
-    )
+    return all(_symbolic_zero(x) for x in jax.tree_util.tree_leaves(t, is_leaf=_symbolic_zero))
 
 
 @functools.partial(_near_forces.defjvp, symbolic_zeros=True)
@@ -503,16 +515,16 @@ def _near_forces_jvp(term, primals, tangents):
     u, C, rho, anchor, params, mode = primals
     if not _is_zero(tangents[1:]):
         leaves, tree = jax.tree_util.tree_flatten(primals)
-        dleaves = jax.tree_util.tree_leaves(tangents, is_leaf=lambda x: isinstance(x, SymbolicZero))
+        dleaves = jax.tree_util.tree_leaves(tangents, is_leaf=_symbolic_zero)
         dleaves = [
-            zero_from_primal(p) if isinstance(d, SymbolicZero) else d
+            zero_from_primal(p) if _symbolic_zero(d) else d
             for p, d in zip(leaves, dleaves, strict=True)
         ]
         whole = functools.partial(FaceCornerContact._force, term)
         return jax.jvp(whole, primals, jax.tree_util.tree_unflatten(tree, dleaves))
     out, current = term._force_and_current(u, C, rho, anchor, params, mode)
     du = tangents[0]
-    if isinstance(du, SymbolicZero):
+    if _symbolic_zero(du):
         return out, jnp.zeros_like(out)
     nodes, K = term._window_stiffness(u, C, rho, anchor, params, mode, current)
     dfw = jnp.einsum("fpaibj,fpbj->fpai", K, du[nodes])

@@ -149,10 +149,15 @@ def make_host_driver(
     batches (docs/fe-crawler-investigation.md, twelfth session).
     """
     step = make_step(topo, terms, integrator)
-    # An observer that is already jitted is called as it is: wrapped in another jit it was
-    # a second program to compile (7.5 s on the paper crawler's first run) and to load.
-    obs = observe if hasattr(observe, "lower") else jax.jit(observe)
-    accept = None if check is None else jax.jit(check)
+
+    # A function that is already jitted is called as it is: the crawler's observer wrapped
+    # in another jit was a second program to compile (7.5 s of the paper crawler's first
+    # run) and to load.
+    def jitted(f):
+        return f if hasattr(f, "lower") else jax.jit(f)
+
+    obs = jitted(observe)
+    accept = None if check is None else jitted(check)
 
     def run(carry, params, t_end, dt_min, dt_max):
         t_end, dt_min, dt_max = float(t_end), float(dt_min), float(dt_max)
