@@ -1,5 +1,5 @@
 """The corner term's tangent assembled from each pair's four outline points
-(:func:`bristlecrawler.contact.corner._near_forces`) against the derivative through the
+(:func:`bristlecrawler.contact.corner_tangent.near_forces`) against the derivative through the
 whole outline (``local_tangent=False``, plain autodiff of the same residual)."""
 
 import dataclasses
