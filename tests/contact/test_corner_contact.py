@@ -263,9 +263,10 @@ def _tangents(m, u, h):
         f = assembly.terms_residual(full, jnp.zeros_like(full), 0.0, (h,), p, m.terms)
         return jax.vjp(lambda q: assembly.expand(q, 0.0, 1.0, p, topo), q)[1](f)[0]
 
-    dense = np.asarray(jax.jacfwd(fn)(q))
+    dense = np.asarray(jax.jit(jax.jacfwd(fn))(q))
     n = len(q)
-    banded_J = banded.to_scipy(banded.extract(fn, q, topo)[1], topo).toarray()[:n, :n]
+    band = jax.jit(lambda q: banded.extract(fn, q, topo)[1])(q)
+    banded_J = banded.to_scipy(band, topo).toarray()[:n, :n]
     return dense, banded_J
 
 
