@@ -24,7 +24,17 @@ from .kinematic import kinematic_history
         (["paper", "--set", "actuation.s_max=100"], "s_max"),
         (["paper", "--set", "bristle.youngs_modulus=0"], "youngs_modulus"),
         (["paper", "--set", "bristle.thickness_tip=-1"], "thickness_tip"),
-        (["paper", "--set", "substrate.mu=-0.1"], "mu"),
+        (["paper", "--set", "substrate.mu=-0.1"], "(with --set): substrate.mu:"),
+        (["paper", "--set", "substrate.kind=foo"], "substrate.kind: 'foo' is not one of"),
+        (
+            ["paper", "--set", "bristle.elements=true"],
+            "bristle.elements: Input should be a valid integer",
+        ),
+        (
+            ["paper", "--set", "bristle.youngs_modulus=true"],
+            "youngs_modulus: Input should be a valid number",
+        ),
+        (["paper", "--set", 'bristle.alpha_deg="45"'], "alpha_deg: Input should be a valid number"),
         (["paper", "--set", "solver.freeze_iterations=25"], "freeze_iterations"),
         (["paper", "--set", "nonsense"], "section.key=value"),
         (["paper", "--set", "bristle.colour=3"], "colour"),
@@ -125,3 +135,46 @@ def test_overrides_are_validated_like_the_file():
 
     sc = job.apply_overrides(load_scenario("paper"), ["substrate.pitch=3.5", "bristle.shear=false"])
     assert sc.substrate.pitch == 3.5 and sc.bristle.shear is False
+
+
+def _never_called(sc, options=None):
+    raise AssertionError("the solver ran although the output folder was refused")
+
+
+@pytest.mark.parametrize("where", ["file", "under a file", "previous run"])
+def test_an_unusable_out_folder_is_refused_before_the_solve(run_cli, tmp_path, monkeypatch, where):
+    """A file, a path below a file, or a folder that already holds a run: one line, exit 2,
+    the solver never runs and what was there is untouched."""
+    monkeypatch.setattr("bristlecrawler.crawler.run.simulate_crawler", _never_called)
+    afile = tmp_path / "afile"
+    afile.write_text("keep me\n")
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "meta.json").write_text('{"run_id": "old"}\n')
+    (old / "shapes.png").write_bytes(b"old figure")
+    out = {"file": afile, "under a file": afile / "sub", "previous run": old}[where]
+    code, _, err = run_cli(["simulate", "paper", "--cycles", "1", "--out", str(out)])
+    assert code == 2, err
+    assert err.startswith("error:") and err.count("\n") == 1
+    assert afile.read_text() == "keep me\n"
+    assert (old / "meta.json").read_text() == '{"run_id": "old"}\n'
+    assert sorted(p.name for p in old.iterdir()) == ["meta.json", "shapes.png"]
+
+
+def test_history_option_runs_a_recorded_shortening(run_cli, tmp_path, monkeypatch):
+    seen = {}
+
+    def fake(sc, options=None):
+        seen["actuation"] = sc.actuation
+        return kinematic_history(cycles=1, samples=40)
+
+    monkeypatch.setattr("bristlecrawler.crawler.run.simulate_crawler", fake)
+    csv = tmp_path / "my history.csv"  # a space, quoted in the TOML value
+    csv.write_text("t,s\n0,0\n10,20\n20,0\n")
+    out = tmp_path / "run"
+    args = ["simulate", "paper", "--history", str(csv), "--no-figures", "--no-vtk"]
+    code, _, err = run_cli([*args, "--out", str(out), "--json"])
+    assert code == 0, err
+    assert seen["actuation"].kind == "history" and seen["actuation"].history == str(csv)
+    code, _, err = run_cli([*args, "--actuator", "sma", "--out", str(tmp_path / "o2")])
+    assert code == 2 and "not both" in err and not (tmp_path / "o2").exists()

@@ -52,8 +52,9 @@ def analyze_cmd(
     from bristlecrawler.errors import InputError
     from bristlecrawler.experiment import ChannelMap, analyze, read_recording
     from bristlecrawler.io.atomic import atomic_write_text
-    from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
+    from bristlecrawler.io.runs import check_out_dir, prepare_run_dir, write_run_metadata
 
+    check_out_dir(out)
     if work is not None and not (work > 0 and work < float("inf")):
         raise InputError(f"--work must be a positive number of mJ, got {work}")
     if not max_gap > 0:

@@ -31,7 +31,15 @@ def simulate_cmd(
         typer.Option(
             "--actuator",
             help="sin2 (prescribed s~ sin^2(pi t/T)) | sma (closed-loop SMA actuator model) "
-            "[default: the scenario's actuation.kind]",
+            "[default: the scenario's actuation.kind]; for a recorded history use --history",
+        ),
+    ] = None,
+    history: Annotated[
+        Path | None,
+        typer.Option(
+            "--history",
+            help="CSV of a shortening history, columns t (s) and s (mm), s >= 0 and below "
+            "the body length (sets actuation.kind = history)",
         ),
     ] = None,
     out: Annotated[
@@ -52,6 +60,7 @@ def simulate_cmd(
     Writes crawler.nc (xarray/NetCDF), vtk/crawler.pvd (ParaView), delta_vs_s.png,
     shapes.png, connector.png, crawler.gif (+ .mp4), summary.json, config.json, meta.json.
     """
+    from bristlecrawler.errors import InputError
     from bristlecrawler.fe import enable_compilation_cache
     from bristlecrawler.jobs.simulate import apply_overrides, run_simulation
     from bristlecrawler.scenario.load import load_scenario
@@ -62,10 +71,13 @@ def simulate_cmd(
         sets.append(f"actuation.cycles={cycles}")
     if actuator is not None:
         if actuator not in ("sin2", "sma"):
-            from bristlecrawler.errors import InputError
-
             raise InputError(f"--actuator must be sin2 or sma, got {actuator!r}")
+        if history is not None:
+            raise InputError("give --actuator or --history, not both")
         sets.append(f'actuation.kind="{actuator}"')
+    if history is not None:
+        # json.dumps writes a TOML basic string (quotes and backslashes escaped).
+        sets += ['actuation.kind="history"', f"actuation.history={json.dumps(str(history))}"]
     if no_figures:
         sets += ["output.figures=false", "output.animation=false"]
     if no_vtk:

@@ -19,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, field_validator
 
 from bristlecrawler.contact.substrates import PAPER_MU, Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
@@ -33,7 +33,8 @@ _MU = Field(
 
 
 class _Base(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # strict: numbers must be numbers, not bools or strings (as in the scenario's sections)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
     mu: float = _MU
 
@@ -92,6 +93,14 @@ class PolylineConfig(_Base):
         min_length=2, description="[[x, y], ...] over exactly one period, mm"
     )
 
+    @field_validator("points", mode="before")
+    @classmethod
+    def _pairs(cls, value):
+        # TOML gives [[x, y], ...] as lists; strict mode takes tuples only.
+        if isinstance(value, list | tuple):
+            return [tuple(p) if isinstance(p, list) else p for p in value]
+        return value
+
     def build(self) -> Polyline:
         return Polyline(points=self.points)
 
@@ -102,6 +111,9 @@ SubstrateConfig = Annotated[
 _ADAPTER: TypeAdapter[Any] = TypeAdapter(SubstrateConfig)
 
 
+_KINDS = ("flat", "grooves", "sawtooth", "polyline")
+
+
 def parse_substrate(
     table: Mapping[str, Any],
 ) -> FlatConfig | GroovesConfig | SawtoothConfig | PolylineConfig:
@@ -110,7 +122,14 @@ def parse_substrate(
         cfg = _ADAPTER.validate_python(dict(table))
     except ValidationError as exc:
         err = exc.errors()[0]
-        where = ".".join(str(x) for x in err["loc"]) or "substrate"
-        raise InputError(f"substrate.{where}: {err['msg']}") from None
+        if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
+            kinds = ", ".join(sorted(_KINDS))
+            if "kind" not in table:
+                raise InputError(f"substrate.kind is missing (one of {kinds})") from None
+            raise InputError(f"substrate.kind: {table['kind']!r} is not one of {kinds}") from None
+        loc = [str(x) for x in err["loc"]]
+        if loc and loc[0] in _KINDS:  # the union's tag, not a key of the table
+            loc = loc[1:]
+        raise InputError(f"substrate.{'.'.join(loc) or 'kind'}: {err['msg']}") from None
     cfg.build()  # geometric checks that pydantic cannot express (width < pitch, fillets, ...)
     return cfg

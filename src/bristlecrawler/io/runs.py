@@ -60,16 +60,38 @@ def git_revision() -> str:
         return "unknown"
 
 
+def check_out_dir(out: str | os.PathLike | None) -> None:
+    """InputError, before any work, if ``out`` cannot take a new run: it is a file, a
+    parent of it is a file or not writable, or it already holds a run (``meta.json``; a
+    new run there would mix its files with the old run's). None (``runs/<id>``) passes."""
+    if out is None:
+        return
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"output path {path} exists and is not a folder")
+    if (path / "meta.json").exists():
+        raise InputError(
+            f"output folder {path} already holds a run (meta.json); give another --out "
+            "or remove it first"
+        )
+    parent = path.absolute()
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"cannot create output folder {path}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"cannot create output folder {path}: {parent} is not writable")
+
+
 def prepare_run_dir(out: str | os.PathLike | None, kind: str, root: str = "runs") -> Path:
     """Create and return the output folder: ``out`` if given, else ``runs/<timestamp>-<kind>``.
 
-    Refuses an ``out`` that exists and is not a folder. Existing files in ``out`` are only
-    ever replaced atomically by the files of the new run.
+    Refuses what :func:`check_out_dir` refuses (a file, a folder holding a run). Files of
+    the new run replace any others of the same name atomically.
     """
     if out is not None:
+        check_out_dir(out)
         path = Path(out)
-        if path.exists() and not path.is_dir():
-            raise InputError(f"output path {path} exists and is not a folder")
         path.mkdir(parents=True, exist_ok=True)
         return path
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")

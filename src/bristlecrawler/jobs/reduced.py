@@ -89,7 +89,11 @@ def run_reduced(
 
     Nothing is written unless the input is valid and the solve succeeded.
     """
+    from bristlecrawler.io.runs import check_out_dir
+
     crawler, gait = build(config)
+    if write:
+        check_out_dir(out)
     result = simulate(crawler, gait, config.cycles, config.samples_per_cycle)
     summary = summarize(result, config)
     if not write:

@@ -110,8 +110,11 @@ def run_simulation(
     """Run scenario ``sc``; with ``write``, put the results in ``out`` (see the module)."""
     from bristlecrawler.crawler import run as crawler_run
     from bristlecrawler.crawler.model import stroke_duration
+    from bristlecrawler.io.runs import check_out_dir
 
     stroke_duration(sc)  # reads and checks a history file before any work
+    if write:
+        check_out_dir(out)
     h = crawler_run.simulate_crawler(sc, crawler_run.RunOptions(progress=progress))
     summary = summarize(h, sc)
     if not write:

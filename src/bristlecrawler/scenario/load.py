@@ -22,9 +22,9 @@ def available_scenarios() -> list[str]:
 
 def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenario:
     """Validate a mapping (e.g. a parsed TOML document) into a :class:`Scenario`."""
-    if "substrate" in data:
-        parse_substrate(data["substrate"])  # its own, more specific messages
     try:
+        if "substrate" in data:
+            parse_substrate(data["substrate"])  # its own, more specific messages
         return parse_model(Scenario, data)
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None

@@ -10,7 +10,9 @@ from bristlecrawler.contact.substrate_config import GroovesConfig, SubstrateConf
 
 
 class _Section(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # strict: a number must be a number (TOML 45, 45.0), not a bool or the string "45"
+    # (lax mode took --set bristle.elements=true as 1 element and reported it as too few).
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
 def _pos(default: float, text: str):
