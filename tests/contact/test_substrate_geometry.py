@@ -464,3 +464,25 @@ def test_arc_gradient_on_a_fillet_is_tangent_times_radius_over_distance():
         assert float(pr.gap) == pytest.approx(rho - r, abs=1e-12)
         assert float(jnp.linalg.norm(pr.arc_gradient)) == pytest.approx(r / rho, rel=1e-12)
         assert float(jnp.dot(pr.arc_gradient, pr.tangent)) == pytest.approx(r / rho, rel=1e-12)
+
+
+@given(
+    phase=st.floats(0.0, 2.0),
+    x0=st.floats(-50.0, 50.0),
+    span=st.floats(0.1, 120.0),
+)
+def test_drawing_of_the_grooves_is_their_profile_over_the_whole_span(phase, x0, span):
+    """The figures' polyline (periods of vertices, fillets left out) covers [x0, x0 + span]
+    and lies at the groove floor inside a groove and on the land elsewhere."""
+    from bristlecrawler.contact.profile import drawing
+
+    g = Grooves(width=1.0, depth=0.25, pitch=2.0, phase=phase, fillet_top=0.02)
+    d = drawing(g.profile(), x0, x0 + span)
+    assert d[0, 0] <= x0 and d[-1, 0] >= x0 + span
+    assert np.all(np.diff(d[:, 0]) >= 0)
+    x = np.linspace(x0, x0 + span, 997)
+    in_groove = np.mod(x - phase, 2.0) < 1.0
+    off_wall = np.minimum(np.abs(np.mod(x - phase + 1e-3, 1.0)), 1.0) > 2e-3
+    # y along the drawing at x (np.interp takes the value at the last of equal x)
+    y = np.interp(x[off_wall], d[:, 0], d[:, 1])
+    np.testing.assert_allclose(y, np.where(in_groove[off_wall], -0.25, 0.0), atol=1e-12)

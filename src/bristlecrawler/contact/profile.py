@@ -107,6 +107,18 @@ class PeriodicProfile:
         return self
 
 
+def drawing(profile: PeriodicProfile, x0: float, x1: float) -> np.ndarray:
+    """The surface as a polyline covering x0..x1 (mm), (K, 2), for figures: the periods'
+    vertices, with the fillets (radii of hundredths of a mm) left out."""
+    v = np.asarray(profile.vertices, dtype=float)
+    period = float(v[-1, 0] - v[0, 0])
+    k0 = int(np.floor((x0 - v[-1, 0]) / period))
+    k1 = int(np.ceil((x1 - v[0, 0]) / period))
+    shift = np.array([period, 0.0])
+    tiles = [v[:-1] + k * shift for k in range(k0, k1 + 1)]
+    return np.concatenate([*tiles, v[-1:] + k1 * shift])
+
+
 def check_vertices(v: np.ndarray, name: str) -> None:
     """Validate a polyline over one period (shape (n+1, 2), or a batch (..., n+1, 2))."""
     v = np.asarray(v, dtype=float)

@@ -41,6 +41,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler.contact.profile import drawing
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build_crawler, stroke_duration
 from bristlecrawler.errors import InputError, SolverError
@@ -160,15 +161,6 @@ def _make_observer(topo, terms, L, R, right_subtree, tip_points):
     return observe
 
 
-@jax.jit
-def _profile_line(xs, substrate):
-    """Substrate surface points below ``xs`` (mm), for the figures: one compiled program
-    (op by op, the projection compiled about 40 small programs at every run's end)."""
-    from bristlecrawler.contact.profile import project
-
-    return jax.vmap(lambda px: project(substrate, jnp.array([px, 5.0])).point)(xs)
-
-
 def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> CrawlerHistory:
     """Run the scenario and return its :class:`CrawlerHistory` (raises SolverError on failure)."""
     from bristlecrawler import fe
@@ -236,20 +228,22 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             bar.update(float(carry.state.t), steps=len(records), iters=iterations)
         return carry
 
-    # Step 1: gravity settle with provisional damping.
-    provisional = fe.Rayleigh.from_ratio(max(sc.damping.ratio, 0.15), opt.settle_omega, "mass")
-    model = provisional.apply(cm.model)
-    state = fe.initial_state(model)
-    compile_s = math.nan
-    if host:
-        # The step's compilation (or its load from the persistent cache), timed apart: one
-        # call of the host driver's jitted step (same argument types) on the initial state.
-        t0 = time.perf_counter()
-        step = fe.make_step(topo, terms, ig)
-        jax.block_until_ready(step(state, model.params, jnp.asarray(float(opt.dt0) * 1e-3)))
-        compile_s = time.perf_counter() - t0
-    omega1, damping = math.nan, provisional
     with sim_progress(t_end, "crawler", opt.progress) as bar:
+        # Step 1: gravity settle with provisional damping.
+        bar.update(0.0, stage="compiling")
+        provisional = fe.Rayleigh.from_ratio(max(sc.damping.ratio, 0.15), opt.settle_omega, "mass")
+        model = provisional.apply(cm.model)
+        state = fe.initial_state(model)
+        compile_s = math.nan
+        if host:
+            # The step's compilation (or its load from the persistent cache), timed apart: one
+            # call of the host driver's jitted step (same argument types) on the initial state.
+            t0 = time.perf_counter()
+            step = fe.make_step(topo, terms, ig)
+            jax.block_until_ready(step(state, model.params, jnp.asarray(float(opt.dt0) * 1e-3)))
+            compile_s = time.perf_counter() - t0
+        omega1, damping = math.nan, provisional
+        bar.update(0.0, stage="gravity step")
         try:
             carry = advance(
                 fe.driver_start(state, opt.dt0),
@@ -262,6 +256,7 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
             raise SolverError(f"gravity step: {e.args[0]}") from None
         records.clear()
         state = carry.state
+        bar.update(settle, stage="modal analysis")
         modes = fe.modes(model, state.q, n_modes=1, t=float(state.t), history=state.history)
         omega1 = float(modes.omega[0])
         zero = 1e-6 * opt.settle_omega  # rad/s: below it the lowest mode does not resonate
@@ -286,6 +281,7 @@ def simulate_crawler(sc: Scenario, options: RunOptions | None = None) -> Crawler
         model = damping.apply(cm.model)
         records.append(jax.device_get(observe(state, model.params)))
         # Step 2: the stroke, in chunks so the progress bar moves.
+        bar.update(settle, stage="")  # the stroke: steps and iterations
         chunk = max(sc.actuation.period / 20.0, 0.5)
         carry = fe.driver_start(state, float(carry.dt))
         stroke_t0, stroke_it0 = time.perf_counter(), iterations
@@ -364,9 +360,8 @@ def _history(
     energies = energy_series(t, fc, s, en)
     tips = np.stack([x[:, cm.tips[0]], x[:, cm.tips[1]]], axis=1)
     # Contact state of the tips: contact term's node order starts with the tips for "tip".
-    xs = np.linspace(x[..., 0].min() - 5.0, x[..., 0].max() + 5.0, 4000)
     sub = cm.model.params.extra[0].substrate
-    surf = _profile_line(jnp.asarray(xs), sub)
+    surf = drawing(sub.profile(), x[..., 0].min() - 5.0, x[..., 0].max() + 5.0)
     period = sc.actuation.period if sc.actuation.kind == "sin2" else None
     return CrawlerHistory(
         t=t - settle,

@@ -6,6 +6,15 @@ from typing import Any
 
 import numpy as np
 
+_ENERGY_NAMES = {
+    "elastic": "elastic energy of the bristles and contact penalties, from the first record",
+    "kinetic": "kinetic energy, from the first record",
+    "potential": "gravitational potential energy, from the first record",
+    "friction": "energy dissipated by friction",
+    "damping": "energy dissipated by Rayleigh damping",
+    "external": "external work (the connector's, W_c)",
+}
+
 
 def crawler_dataset(h, attrs: dict[str, Any] | None = None):
     """Dataset with dims time, bristle, xy, frame, node, line."""
@@ -13,7 +22,8 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
 
     resid = h.energy_balance_residual()
     data = {
-        "s": ("time", h.s, {"units": "mm", "long_name": "shortening"}),
+        # + 0.0: a shortening of -0.0 (the first record) is written as 0.0
+        "s": ("time", h.s + 0.0, {"units": "mm", "long_name": "shortening s"}),
         "delta": ("time", h.delta, {"units": "mm", "long_name": "right-end displacement Delta"}),
         "left": (("time", "xy"), h.left, {"units": "mm", "long_name": "left end position"}),
         "right": (("time", "xy"), h.right, {"units": "mm", "long_name": "right end position"}),
@@ -22,25 +32,53 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
             h.connector_force,
             {"units": "N", "long_name": "connector force F_c (pulling)"},
         ),
-        "connector_work": ("time", h.connector_work, {"units": "mJ", "long_name": "W_c"}),
-        "tip_position": (("time", "bristle", "xy"), h.tip_position, {"units": "mm"}),
+        "connector_work": (
+            "time",
+            h.connector_work,
+            {"units": "mJ", "long_name": "connector work W_c = int F_c ds"},
+        ),
+        "tip_position": (
+            ("time", "bristle", "xy"),
+            h.tip_position,
+            {"units": "mm", "long_name": "bristle tip position (left, right)"},
+        ),
         "tip_state": (
             ("time", "bristle"),
             h.tip_state.astype(np.int8),
-            {"flag_values": np.array([0, 1, 2], np.int8), "flag_meanings": "open stick slip"},
+            {
+                "flag_values": np.array([0, 1, 2], np.int8),
+                "flag_meanings": "open stick slip",
+                "long_name": "contact state of the bristle tip",
+            },
         ),
-        "energy_balance_residual": ("time", resid - resid[0], {"units": "mJ"}),
-        "frame_nodes": (("frame", "node", "xy"), h.frame_nodes, {"units": "mm"}),
+        "energy_balance_residual": (
+            "time",
+            resid - resid[0],
+            {
+                "units": "mJ",
+                "long_name": "energy balance residual: W_c minus stored energies and dissipations",
+            },
+        ),
+        "frame_nodes": (
+            ("frame", "node", "xy"),
+            h.frame_nodes,
+            {"units": "mm", "long_name": "node positions of the drawn frames"},
+        ),
         "lines": (("line", "end"), h.lines.astype(np.int32)),
         "line_kind": (
             "line",
             h.line_kind.astype(np.int8),
             {"flag_values": np.array([0, 1, 2], np.int8), "flag_meanings": "body link bristle"},
         ),
-        "substrate_xy": (("substrate_point", "xy"), h.substrate_xy, {"units": "mm"}),
+        "substrate_xy": (
+            ("substrate_point", "xy"),
+            h.substrate_xy,
+            {"units": "mm", "long_name": "substrate surface (drawing, fillets left out)"},
+        ),
     }
     for name, series in h.energies.items():
-        data[f"energy_{name}"] = ("time", series, {"units": "mJ"})
+        what = _ENERGY_NAMES.get(name, f"{name} energy")
+        data[f"energy_{name}"] = ("time", series, {"units": "mJ", "long_name": what})
     ds = xr.Dataset(
         data,
         coords={

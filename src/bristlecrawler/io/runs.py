@@ -8,6 +8,7 @@ import os
 import platform
 import subprocess
 import sys
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -42,6 +43,14 @@ def git_revision() -> str:
     """Git revision of the source tree this package was imported from ("+dirty" if modified),
     or "unknown" outside a git checkout."""
     here = Path(__file__).resolve().parent
+    # git execs at once after the fork: JAX's warning about forking a threaded process
+    # does not apply.
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=r"os\.fork\(\) was called")
+        return _git_revision(here)
+
+
+def _git_revision(here: Path) -> str:
     try:
         rev = subprocess.run(
             ["git", "rev-parse", "HEAD"], cwd=here, capture_output=True, text=True, timeout=5

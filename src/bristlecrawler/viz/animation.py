@@ -3,13 +3,23 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from bristlecrawler.io.atomic import atomic_path
+
+
+@contextlib.contextmanager
+def _fork_ok():
+    """Silence JAX's warning about os.fork() for a subprocess that execs at once (ffmpeg)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=r"os\.fork\(\) was called")
+        yield
 
 
 def _render(fig) -> np.ndarray:
@@ -53,10 +63,12 @@ def write_animation(
         iio.imwrite(tmp, frames, extension=".gif", duration=1000.0 / fps, loop=0)
     written.append(stem.with_suffix(".gif"))
     if mp4_available():
-        # libx264 wants even frame sizes.
+        # Codecs want sizes in 16-pixel blocks: pad with white (imageio would rescale, and
+        # say so on stderr).
         h, w = frames[0].shape[:2]
-        even = [f[: h - h % 2, : w - w % 2] for f in frames]
-        with atomic_path(stem.with_suffix(".mp4")) as tmp:
-            iio.imwrite(tmp, even, extension=".mp4", fps=fps, codec="libx264")
+        pad = ((0, -h % 16), (0, -w % 16), (0, 0))
+        padded = [np.pad(f, pad, constant_values=255) for f in frames]
+        with atomic_path(stem.with_suffix(".mp4")) as tmp, _fork_ok():
+            iio.imwrite(tmp, padded, extension=".mp4", fps=fps, codec="libx264")
         written.append(stem.with_suffix(".mp4"))
     return written

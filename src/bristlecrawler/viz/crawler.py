@@ -41,14 +41,25 @@ def plot_connector(h):
     a2.set_xlabel("time t (s)")
     if h.period is not None:
         for ax in (a1, a2):
-            ax.axvspan(h.t[0], h.t[0] + h.period, color="0.85", zorder=0)
+            ax.axvspan(h.t[0], h.t[0] + h.period, color="0.85", zorder=0, label="first cycle")
+        a1.legend(loc="upper right", fontsize=8)
     for ax in (a1, a2):
         ax.grid(alpha=0.3)
     return fig
 
 
-def draw_frame(ax, h, f: int, xlim: tuple[float, float] | None = None) -> None:
-    """Draw frame ``f``: body/links black, bristles red, substrate grey."""
+def draw_frame(
+    ax,
+    h,
+    f: int,
+    xlim: tuple[float, float] | None = None,
+    ylim: tuple[float, float] | None = None,
+    axes: bool = False,
+    bar: float | None = None,
+) -> None:
+    """Draw frame ``f``: body black, links grey, bristles red, substrate grey; ``axes``
+    keeps the axes with their mm ticks (zoomed views), else a scale bar ``bar`` mm long
+    is drawn below the substrate at the left."""
     nodes = h.frame_nodes[f]
     colors = {0: "k", 1: "0.3", 2: "tab:red"}
     widths = {0: 2.5, 1: 1.5, 2: 1.2}
@@ -62,36 +73,77 @@ def draw_frame(ax, h, f: int, xlim: tuple[float, float] | None = None) -> None:
     ax.set_aspect("equal")
     if xlim is not None:
         ax.set_xlim(*xlim)
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    if axes:
+        ax.tick_params(labelsize=6, length=2, pad=1)
+        return
     ax.set_axis_off()
+    if bar is not None:
+        x0 = (xlim or (float(nodes[:, 0].min()), 0.0))[0] + 1.0
+        y0 = float(sub[:, 1].min()) - 1.5
+        ax.plot([x0, x0 + bar], [y0, y0], color="k", lw=1.5)
+        ax.text(x0 + 0.5 * bar, y0 - 0.5, f"{bar:g} mm", fontsize=6, ha="center", va="top")
 
 
 def _frame_at(h, t: float) -> int:
     return int(np.argmin(np.abs(h.frame_t - t)))
 
 
-def plot_shapes(h):
-    """Deformed shapes at the start, full contraction and re-extension of each cycle, with
-    dashed verticals at the ends' positions (paper Fig. 5)."""
+def _bristles(h) -> list[np.ndarray]:
+    """Node indices of each bristle (the connected runs of bristle elements)."""
+    segs = h.lines[h.line_kind == 2]
+    groups: list[set] = []
+    for a, b in segs:
+        hit = [g for g in groups if a in g or b in g]
+        merged = set().union(*hit, {int(a), int(b)})
+        groups = [g for g in groups if g not in hit] + [merged]
+    return sorted(
+        (np.array(sorted(g)) for g in groups), key=lambda ix: h.frame_nodes[0, ix, 0].min()
+    )
+
+
+def plot_shapes(h, zoom: float = 4.5):
+    """Deformed shapes at the start, full contraction and re-extension of each cycle (paper
+    Fig. 5): the whole crawler with dashed verticals at its ends' positions and a 10 mm
+    bar, and below it each bristle in a window ``zoom`` mm either side of its middle, with
+    the grooves and mm axes."""
     plt = _pyplot()
     n = max(h.cycles, 1)
     period = h.period or (h.t[-1] - h.t[0])
-    fig, axes = plt.subplots(n, 3, figsize=(11.0, 1.3 * n + 0.6), squeeze=False)
+    fig = plt.figure(figsize=(11.0, 2.6 * n + 0.7))
+    outer = fig.add_gridspec(n, 3, hspace=0.3, wspace=0.15)
     xs = h.frame_nodes[..., 0]
     xlim = (float(xs.min()) - 3.0, float(xs.max()) + 3.0)
+    bristles = _bristles(h)
+    y_sub = h.substrate_xy[:, 1]
     labels = ("start", "contracted", "re-extended")
     for c in range(n):
         t0 = h.t[0] + c * period
         for j, t in enumerate((t0, t0 + 0.5 * period, t0 + period)):
-            ax = axes[c, j]
+            cell = outer[c, j].subgridspec(2, max(len(bristles), 1), height_ratios=(1.0, 2.0))
+            ax = fig.add_subplot(cell[0, :])
             f = _frame_at(h, t)
-            draw_frame(ax, h, f, xlim)
+            draw_frame(ax, h, f, xlim, bar=10.0)
             m = int(np.argmin(np.abs(h.t - h.frame_t[f])))
             for x in (h.left[m, 0], h.right[m, 0]):
                 ax.axvline(x, color="tab:blue", ls="--", lw=0.8)
-            if c == 0:
-                ax.set_title(labels[j], fontsize=9)
-        axes[c, 0].text(xlim[0], 0.0, f"cycle {c + 1}", fontsize=8, ha="right", va="center")
-    fig.tight_layout()
+            title = f"{labels[j]}, t = {h.frame_t[f]:.1f} s"
+            ax.set_title(f"cycle {c + 1}: {title}" if j == 0 else title, fontsize=8)
+            nodes = h.frame_nodes[f]
+            for k, ix in enumerate(bristles):
+                zx = float(nodes[ix, 0].mean())
+                top = float(nodes[ix, 1].max())
+                zax = fig.add_subplot(cell[1, k])
+                ylim = (float(y_sub.min()) - 0.4, top + 0.4)
+                draw_frame(zax, h, f, (zx - zoom, zx + zoom), ylim, axes=True)
+                zax.set_xlabel("x (mm)", fontsize=6, labelpad=1)
+                if k == 0:
+                    zax.set_ylabel("y (mm)", fontsize=6, labelpad=1)
+    fig.suptitle(
+        "deformed shapes (body black, links grey, bristles red; dashed: the ends' positions)",
+        fontsize=9,
+    )
     return fig
 
 
@@ -103,7 +155,7 @@ def animate(h, path_stem, fps: float = 12.0):
     xlim = (float(xs.min()) - 3.0, float(xs.max()) + 3.0)
 
     def draw(ax, f):
-        draw_frame(ax, h, f, xlim)
+        draw_frame(ax, h, f, xlim, bar=10.0)
         ax.set_title(f"t = {h.frame_t[f]:.1f} s", fontsize=9)
 
     return write_animation(draw, h.frame_t.size, path_stem, fps=fps, figsize=(9.0, 2.2))

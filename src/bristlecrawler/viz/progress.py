@@ -9,13 +9,14 @@ from collections.abc import Iterator
 
 
 class _Null:
-    def update(self, t_sim: float, **info) -> None:
+    def update(self, t_sim: float, stage: str | None = None, **info) -> None:
         """Do nothing."""
 
 
 @contextlib.contextmanager
 def sim_progress(t_end: float, label: str = "simulating", enabled: bool | None = None) -> Iterator:
-    """Yield an object with ``update(t_sim)`` (s of simulated time)."""
+    """Yield an object with ``update(t_sim, stage=None, **info)``: ``t_sim`` s of simulated
+    time, ``stage`` what the run is doing (kept until the next stage), ``info`` counters."""
     if enabled is None:
         enabled = sys.stderr.isatty()
     if not enabled:
@@ -32,8 +33,8 @@ def sim_progress(t_end: float, label: str = "simulating", enabled: bool | None =
 
     progress = Progress(
         TextColumn("[bold]{task.description}"),
-        BarColumn(),
-        TextColumn("t = {task.completed:.2f} / {task.total:.2f} s"),
+        BarColumn(bar_width=12),
+        TextColumn("t = {task.completed:.1f}/{task.total:.1f} s"),
         TextColumn("{task.fields[info]}"),
         TimeElapsedColumn(),
         TextColumn("ETA"),
@@ -44,9 +45,13 @@ def sim_progress(t_end: float, label: str = "simulating", enabled: bool | None =
     task = progress.add_task(label, total=t_end, info="")
 
     class _Bar:
-        def update(self, t_sim: float, **info) -> None:
-            text = " ".join(f"{k}={v}" for k, v in info.items())
-            progress.update(task, completed=min(t_sim, t_end), info=text)
+        stage = ""
+
+        def update(self, t_sim: float, stage: str | None = None, **info) -> None:
+            if stage is not None:
+                self.stage = stage
+            text = " ".join([self.stage, *(f"{k}={v}" for k, v in info.items())])
+            progress.update(task, completed=min(t_sim, t_end), info=text.strip())
 
     with progress:
         yield _Bar()
