@@ -44,4 +44,5 @@ def kinematic_history(cycles=2, samples=80, height=12.0, link=8.0) -> CrawlerHis
         period=20.0,
         cycles=cycles,
         stats={"steps": m},
+        node_thickness=np.array([0.0, 0.0, 3.0, 3.0, 0.5, 0.5]),
     )

@@ -32,6 +32,8 @@ class CrawlerHistory:
         line_kind: 0 body/connector, 1 rigid link, 2 bristle element, (C,).
         substrate_xy: one drawing of the substrate surface, mm, (K, 2).
         period: stroke period T, s (None for a recorded history).
+        node_thickness: section thickness at each node, mm, (P,) (0 off the bristles;
+            None: not recorded), for drawing the bristles' outlines.
         cycles: number of cycles.
         stats: counters of the solve (steps, iterations, wall time, ...).
     """
@@ -53,6 +55,7 @@ class CrawlerHistory:
     period: float | None = None
     cycles: int = 1
     stats: dict = field(default_factory=dict)
+    node_thickness: np.ndarray | None = None
 
     @property
     def delta(self) -> np.ndarray:

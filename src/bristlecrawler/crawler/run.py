@@ -363,6 +363,11 @@ def _history(
     sub = cm.model.params.extra[0].substrate
     surf = drawing(sub.profile(), x[..., 0].min() - 5.0, x[..., 0].max() + 5.0)
     period = sc.actuation.period if sc.actuation.kind == "sin2" else None
+    br = sc.bristle
+    thickness = np.zeros(x.shape[1])
+    for chain in cm.bristles:  # clamp to tip, linear taper
+        frac = np.arange(len(chain)) / (len(chain) - 1)
+        thickness[list(chain)] = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac
     return CrawlerHistory(
         t=t - settle,
         s=s,
@@ -392,4 +397,5 @@ def _history(
             "rayleigh_a0": damping.a0,
             "rayleigh_a1": damping.a1,
         },
+        node_thickness=thickness,
     )

@@ -64,11 +64,19 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
             h.frame_nodes,
             {"units": "mm", "long_name": "node positions of the drawn frames"},
         ),
-        "lines": (("line", "end"), h.lines.astype(np.int32)),
+        "lines": (
+            ("line", "end"),
+            h.lines.astype(np.int32),
+            {"long_name": "nodes of the drawing's line cells"},
+        ),
         "line_kind": (
             "line",
             h.line_kind.astype(np.int8),
-            {"flag_values": np.array([0, 1, 2], np.int8), "flag_meanings": "body link bristle"},
+            {
+                "flag_values": np.array([0, 1, 2], np.int8),
+                "flag_meanings": "body link bristle",
+                "long_name": "kind of line cell",
+            },
         ),
         "substrate_xy": (
             ("substrate_point", "xy"),
@@ -76,6 +84,12 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
             {"units": "mm", "long_name": "substrate surface (drawing, fillets left out)"},
         ),
     }
+    if h.node_thickness is not None:
+        data["node_thickness"] = (
+            "node",
+            h.node_thickness,
+            {"units": "mm", "long_name": "bristle section thickness at the node (0 elsewhere)"},
+        )
     for name, series in h.energies.items():
         what = _ENERGY_NAMES.get(name, f"{name} energy")
         data[f"energy_{name}"] = ("time", series, {"units": "mJ", "long_name": what})

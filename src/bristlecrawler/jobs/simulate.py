@@ -136,11 +136,16 @@ def run_simulation(
         from bristlecrawler.io.vtk import write_vtk_series
 
         kind = np.broadcast_to(framed.line_kind, (keep.size, framed.lines.shape[0]))
+        point_data = None
+        if framed.node_thickness is not None:  # mm, for ParaView's glyphs or tubes
+            shape = (keep.size, framed.node_thickness.size)
+            point_data = {"thickness": np.broadcast_to(framed.node_thickness, shape)}
         write_vtk_series(
             out_dir / "vtk",
             framed.frame_t,
             framed.frame_nodes,
             framed.lines,
+            point_data=point_data,
             cell_data={"kind": kind},
         )
     if sc.output.figures:

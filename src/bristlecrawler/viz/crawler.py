@@ -67,6 +67,14 @@ def draw_frame(
         segs = h.lines[h.line_kind == kind]
         for a, b in segs:
             ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color=colors[kind], lw=widths[kind])
+    if h.node_thickness is not None:
+        for chain in _bristles(h):
+            ax.fill(
+                *_outline(nodes[chain], h.node_thickness[chain]).T,
+                color="tab:red",
+                alpha=0.35,
+                lw=0,
+            )
     sub = h.substrate_xy
     ax.fill_between(sub[:, 0], sub[:, 1], sub[:, 1].min() - 2.0, color="0.85", lw=0)
     ax.plot(sub[:, 0], sub[:, 1], color="0.4", lw=0.6)
@@ -91,16 +99,38 @@ def _frame_at(h, t: float) -> int:
 
 
 def _bristles(h) -> list[np.ndarray]:
-    """Node indices of each bristle (the connected runs of bristle elements)."""
+    """Node indices of each bristle (a chain of bristle elements), clamp to tip, ordered
+    left to right."""
     segs = h.lines[h.line_kind == 2]
-    groups: list[set] = []
+    nbrs: dict[int, list[int]] = {}
     for a, b in segs:
-        hit = [g for g in groups if a in g or b in g]
-        merged = set().union(*hit, {int(a), int(b)})
-        groups = [g for g in groups if g not in hit] + [merged]
-    return sorted(
-        (np.array(sorted(g)) for g in groups), key=lambda ix: h.frame_nodes[0, ix, 0].min()
-    )
+        nbrs.setdefault(int(a), []).append(int(b))
+        nbrs.setdefault(int(b), []).append(int(a))
+    y0 = h.frame_nodes[0, :, 1]
+    chains, seen = [], set()
+    # Each chain from its higher end (the clamp) along its neighbours.
+    for end in sorted((n for n, nb in nbrs.items() if len(nb) == 1), key=lambda n: -y0[n]):
+        if end in seen:
+            continue
+        chain, prev = [end], None
+        while True:
+            nxt = [n for n in nbrs[chain[-1]] if n != prev]
+            if not nxt:
+                break
+            prev = chain[-1]
+            chain.append(nxt[0])
+        seen.update(chain)
+        chains.append(np.array(chain))
+    return sorted(chains, key=lambda ix: h.frame_nodes[0, ix, 0].min())
+
+
+def _outline(x: np.ndarray, thickness: np.ndarray) -> np.ndarray:
+    """Closed outline (2n, 2) of a beam drawn from its axis points ``x`` (n, 2) and
+    thicknesses (n,), mm: the faces h/2 either side along the normal of the axis."""
+    t = np.gradient(x, axis=0)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    n = np.stack([-t[:, 1], t[:, 0]], axis=1) * (0.5 * thickness)[:, None]
+    return np.concatenate([x + n, (x - n)[::-1]])
 
 
 def plot_shapes(h, zoom: float = 4.5):
@@ -133,7 +163,8 @@ def plot_shapes(h, zoom: float = 4.5):
             nodes = h.frame_nodes[f]
             for k, ix in enumerate(bristles):
                 zx = float(nodes[ix, 0].mean())
-                top = float(nodes[ix, 1].max())
+                half = 0.0 if h.node_thickness is None else 0.5 * h.node_thickness[ix].max()
+                top = float(nodes[ix, 1].max()) + half
                 zax = fig.add_subplot(cell[1, k])
                 ylim = (float(y_sub.min()) - 0.4, top + 0.4)
                 draw_frame(zax, h, f, (zx - zoom, zx + zoom), ylim, axes=True)
@@ -141,7 +172,8 @@ def plot_shapes(h, zoom: float = 4.5):
                 if k == 0:
                     zax.set_ylabel("y (mm)", fontsize=6, labelpad=1)
     fig.suptitle(
-        "deformed shapes (body black, links grey, bristles red; dashed: the ends' positions)",
+        "deformed shapes (body black, links grey, bristles red: axis and section; "
+        "dashed: the ends' positions)",
         fontsize=9,
     )
     return fig
