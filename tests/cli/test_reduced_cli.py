@@ -154,6 +154,17 @@ def test_failed_run_leaves_previous_results_intact(tmp_path, run_cli):
     assert before == after
 
 
+def test_a_second_run_into_a_run_folder_is_refused_and_changes_nothing(tmp_path, run_cli):
+    """A new run would mix its files with the old run's (a run without figures kept the
+    old figures): the folder is refused, one line, exit 2, every file as it was."""
+    out = tmp_path / "o"
+    assert run_cli(["reduced", "--json", "--out", str(out)])[0] == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    code, _, err = run_cli(["reduced", "--no-figures", "--cycles", "2", "--out", str(out)])
+    assert code == 2 and "already holds a run" in err and err.count("\n") == 1
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
 def test_console_script_entry_point():
     proc = subprocess.run(
         [
