@@ -10,15 +10,17 @@ import time
 
 def run_rows(base, variants, extra_columns: bool = False) -> list[dict]:
     """Run ``variants`` (label, list of ``section.key=value``) of scenario ``base``;
-    returns the summaries (None for a failed run). ``extra_columns`` adds the advance of
-    each cycle, the mean |F_c| (N) and the first frequency (Hz)."""
+    returns the summaries (None for a failed run). ``strain`` is the largest bending strain
+    of the bristles (above 0.5 a warning follows the row: outside the beam model).
+    ``extra_columns`` adds the advance of each cycle, the mean |F_c| (N) and the first
+    frequency (Hz)."""
     from bristlecrawler.crawler.run import RunOptions, simulate_crawler
     from bristlecrawler.errors import SolverError
     from bristlecrawler.jobs.simulate import apply_overrides, summarize
 
     head = (
         f"{'run':<20} {'advance mm':>11} {'d adv mm':>9} {'work mJ':>8} {'d work %':>9} "
-        f"{'balance':>8} {'steps':>6} {'newton':>7} {'wall s':>7}"
+        f"{'balance':>8} {'strain':>7} {'steps':>6} {'newton':>7} {'wall s':>7}"
     )
     if extra_columns:
         head += f" {'|F_c| N':>8} {'f1 Hz':>6}  per cycle mm"
@@ -43,11 +45,13 @@ def run_rows(base, variants, extra_columns: bool = False) -> list[dict]:
         row = (
             f"{label:<20} {adv:11.4f} {adv - ref[0]:+9.4f} {work:8.3f} "
             f"{100 * (work - ref[1]) / abs(ref[1]):+9.2f} "
-            f"{s['energy_balance_rel_error']:8.2%} {s['steps']:6d} "
+            f"{s['energy_balance_rel_error']:8.2%} {s['max_bristle_strain']:7.3f} {s['steps']:6d} "
             f"{s['newton_iterations']:7d} {wall:7.0f}"
         )
         if extra_columns:
             per = ", ".join(f"{x:.3f}" for x in s["advance_per_cycle_mm"])
             row += f" {s['mean_abs_connector_force_N']:8.3f} {s['first_frequency_hz']:6.1f}  {per}"
         print(row, flush=True)
+        for w in s.get("warnings", []):
+            print(f"{'':<20} warning: {w}", flush=True)
     return out

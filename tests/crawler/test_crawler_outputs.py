@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.io.crawler_dataset import crawler_dataset
 from bristlecrawler.io.netcdf import write_netcdf
 from bristlecrawler.viz import crawler as vc
@@ -71,5 +72,69 @@ def test_bristle_chains_are_read_back_from_the_drawing_clamp_to_tip():
     cm = build_crawler(load_scenario("paper"))
     X = np.asarray(cm.model.params.X)[None, :, :2]
     drawn = SimpleNamespace(lines=cm.lines, line_kind=cm.line_kind, frame_nodes=X)
-    chains = vc._bristles(drawn)
+    chains = CrawlerHistory.bristle_chains(drawn)  # reads lines, line_kind, frame_nodes
     assert [list(c) for c in chains] == [list(b) for b in cm.bristles]
+
+
+def _with_jointed_bristles(h, kink: float):
+    """``h`` with a middle node in each bristle (its bristles are 5 mm long), pushed
+    sideways by ``kink`` mm: the two halves turn by 2 atan(kink / 2.5 mm) at a node 3 mm
+    thick."""
+    import dataclasses
+
+    nodes = h.frame_nodes
+    mids = []
+    for clamp, tip in ((2, 4), (3, 5)):
+        a, b = nodes[:, clamp], nodes[:, tip]
+        axis = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
+        normal = np.stack([-axis[:, 1], axis[:, 0]], axis=1)
+        mids.append(0.5 * (a + b) + kink * normal)
+    lines = np.array([[0, 1], [0, 2], [1, 3], [2, 6], [6, 4], [3, 7], [7, 5]])
+    return dataclasses.replace(
+        h,
+        frame_nodes=np.concatenate([nodes, np.stack(mids, axis=1)], axis=1),
+        lines=lines,
+        line_kind=np.array([0, 1, 1, 2, 2, 2, 2]),
+        node_thickness=np.array([0.0, 0.0, 3.0, 3.0, 0.5, 0.5, 3.0, 3.0]),
+    )
+
+
+def test_strain_of_an_arc_is_half_the_thickness_over_the_radius():
+    """Points on a circle of radius R: adjacent chords turn by the arc step phi and are
+    2 R sin(phi / 2) long, so the strain is h phi / (4 R sin(phi / 2)) -> h / (2 R)."""
+    import dataclasses
+
+    R, h_, n = 3.0, 0.4, 12
+    phi = np.linspace(0.0, 1.2, n)
+    arc = R * np.column_stack([np.sin(phi), 1.0 - np.cos(phi)])
+    frames = np.stack([arc * 0.0 + arc[0], arc])  # a point, then the arc
+    frames[0, :, 0] = np.linspace(0.0, 1.0, n)  # first frame: straight
+    hist = dataclasses.replace(
+        kinematic_history(cycles=1, samples=4),
+        frame_t=np.array([0.0, 1.0]),
+        frame_nodes=frames,
+        lines=np.column_stack([np.arange(n - 1), np.arange(1, n)]),
+        line_kind=np.full(n - 1, 2),
+        node_thickness=np.full(n, h_),
+    )
+    peak = hist.strain_peak()
+    step = phi[1] - phi[0]
+    assert peak.t == 1.0 and peak.bristle == 0
+    assert peak.strain == pytest.approx(h_ * step / (4 * R * np.sin(step / 2)), rel=1e-12)
+    assert peak.turn_deg == pytest.approx(np.degrees(step), rel=1e-12)
+
+
+@pytest.mark.parametrize(("kink", "warned"), [(0.02, False), (2.0, True)])
+def test_a_kinked_bristle_is_reported_in_the_summary(history, kink, warned):
+    """A turn of 77 degrees between halves 3.2 mm long at a node 3 mm thick (strain 0.63)
+    is flagged with where it is; one of 0.9 degrees (strain 0.007) is not."""
+    from bristlecrawler.crawler.history import STRAIN_LIMIT
+    from bristlecrawler.jobs.simulate import summarize
+    from bristlecrawler.scenario.load import load_scenario
+
+    s = summarize(_with_jointed_bristles(history, kink), load_scenario("paper"))
+    assert (s["max_bristle_strain"] > STRAIN_LIMIT) is warned
+    assert len(s["warnings"]) == int(warned)
+    if warned:
+        assert "outside the beam model" in s["warnings"][0] and "node 1" in s["warnings"][0]
+        assert f"from t = {history.frame_t[0]:.3g} s" in s["warnings"][0]  # kinked throughout

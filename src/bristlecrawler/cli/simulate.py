@@ -91,6 +91,8 @@ def simulate_cmd(
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
     )
+    for w in run.summary["warnings"]:
+        typer.echo(f"warning: {w}", err=True)
     if as_json:
         typer.echo(json.dumps(run.summary))
         return
@@ -112,6 +114,7 @@ def _print_summary(summary: dict) -> None:
     table.add_row("mean |F_c| (N)", f"{summary['mean_abs_connector_force_N']:.3f}")
     table.add_row("energy balance, rel. error", f"{summary['energy_balance_rel_error']:.1e}")
     table.add_row("first frequency (Hz)", f"{summary['first_frequency_hz']:.2f}")
+    table.add_row("largest bending strain of a bristle", f"{summary['max_bristle_strain']:.3f}")
     table.add_row(
         "steps / Newton iterations / rejected",
         f"{summary['steps']} / {summary['newton_iterations']} / {summary['rejected_steps']}",

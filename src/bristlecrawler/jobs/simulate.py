@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from bristlecrawler.crawler.history import CrawlerHistory
+from bristlecrawler.crawler.history import STRAIN_LIMIT, CrawlerHistory
 from bristlecrawler.errors import InputError
 from bristlecrawler.scenario.schema import Scenario
 
@@ -66,6 +66,10 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
     work = h.connector_work
     b = h.cycle_bounds()
     st = h.stats
+    peak = h.strain_peak()
+    warnings = []
+    if peak is not None and peak.strain > STRAIN_LIMIT:
+        warnings.append(peak.message())
     return {
         "scenario": sc.name,
         "net_advance_mm": h.net_advance,
@@ -87,6 +91,8 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
         "rejected_steps": int(st.get("rejected_steps", 0)),
         "first_frequency_hz": float(st.get("first_frequency_hz", float("nan"))),
         "rayleigh_a0_per_s": float(st.get("rayleigh_a0", float("nan"))),
+        "max_bristle_strain": float("nan") if peak is None else peak.strain,
+        "warnings": warnings,
     }
 
 

@@ -68,7 +68,7 @@ def draw_frame(
         for a, b in segs:
             ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color=colors[kind], lw=widths[kind])
     if h.node_thickness is not None:
-        for chain in _bristles(h):
+        for chain in h.bristle_chains():
             ax.fill(
                 *_outline(nodes[chain], h.node_thickness[chain]).T,
                 color="tab:red",
@@ -98,32 +98,6 @@ def _frame_at(h, t: float) -> int:
     return int(np.argmin(np.abs(h.frame_t - t)))
 
 
-def _bristles(h) -> list[np.ndarray]:
-    """Node indices of each bristle (a chain of bristle elements), clamp to tip, ordered
-    left to right."""
-    segs = h.lines[h.line_kind == 2]
-    nbrs: dict[int, list[int]] = {}
-    for a, b in segs:
-        nbrs.setdefault(int(a), []).append(int(b))
-        nbrs.setdefault(int(b), []).append(int(a))
-    y0 = h.frame_nodes[0, :, 1]
-    chains, seen = [], set()
-    # Each chain from its higher end (the clamp) along its neighbours.
-    for end in sorted((n for n, nb in nbrs.items() if len(nb) == 1), key=lambda n: -y0[n]):
-        if end in seen:
-            continue
-        chain, prev = [end], None
-        while True:
-            nxt = [n for n in nbrs[chain[-1]] if n != prev]
-            if not nxt:
-                break
-            prev = chain[-1]
-            chain.append(nxt[0])
-        seen.update(chain)
-        chains.append(np.array(chain))
-    return sorted(chains, key=lambda ix: h.frame_nodes[0, ix, 0].min())
-
-
 def _outline(x: np.ndarray, thickness: np.ndarray) -> np.ndarray:
     """Closed outline (2n, 2) of a beam drawn from its axis points ``x`` (n, 2) and
     thicknesses (n,), mm: the faces h/2 either side along the normal of the axis."""
@@ -145,7 +119,7 @@ def plot_shapes(h, zoom: float = 4.5):
     outer = fig.add_gridspec(n, 3, hspace=0.3, wspace=0.15)
     xs = h.frame_nodes[..., 0]
     xlim = (float(xs.min()) - 3.0, float(xs.max()) + 3.0)
-    bristles = _bristles(h)
+    bristles = h.bristle_chains()
     y_sub = h.substrate_xy[:, 1]
     labels = ("start", "contracted", "re-extended")
     for c in range(n):
