@@ -17,6 +17,7 @@ on a 2-core machine, compilation included), or their existing output folders:
 from __future__ import annotations
 
 import argparse
+import datetime
 from pathlib import Path
 
 import numpy as np
@@ -56,7 +57,9 @@ def run_pair(out_root: Path) -> tuple[Path, Path]:
                 "output.animation=false",
             ],
         )
-        out = out_root / f"quasi-static-{kind}"
+        # A fresh folder per run: a folder that holds a run is refused.
+        stamp = datetime.datetime.now(datetime.UTC).strftime("%Y%m%d-%H%M%S")
+        out = out_root / f"{stamp}-quasi-static-{kind}"
         run_simulation(sc, out=out, progress=True, command=f"examples/quasi_static_fe.py {kind}")
         folders.append(out)
     return folders[0], folders[1]

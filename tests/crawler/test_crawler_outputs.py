@@ -137,4 +137,11 @@ def test_a_kinked_bristle_is_reported_in_the_summary(history, kink, warned):
     assert len(s["warnings"]) == int(warned)
     if warned:
         assert "outside the beam model" in s["warnings"][0] and "node 1" in s["warnings"][0]
-        assert f"from t = {history.frame_t[0]:.3g} s" in s["warnings"][0]  # kinked throughout
+        assert "from the end of the gravity step on" in s["warnings"][0]  # kinked throughout
+
+
+def test_a_strain_peak_below_the_limit_reads_without_a_start():
+    from bristlecrawler.crawler.history import StrainPeak
+
+    text = StrainPeak(0.1, 5.0, 1, 3, 2.5).message()
+    assert text.startswith("bristle right turns by 5.0 deg at its node 3") and "above" not in text

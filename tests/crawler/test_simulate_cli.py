@@ -37,6 +37,7 @@ from .kinematic import kinematic_history
         (["paper", "--set", 'bristle.alpha_deg="45"'], "alpha_deg: Input should be a valid number"),
         (["paper", "--set", "solver.freeze_iterations=25"], "freeze_iterations"),
         (["paper", "--set", "nonsense"], "section.key=value"),
+        (["paper", "--set", "substrate=3"], "substrate must be a table"),
         (["paper", "--set", "bristle.colour=3"], "colour"),
         (["paper", "--cycles", "0"], "cycles"),
         (["paper", "--actuator", "hydraulic"], "--actuator"),
@@ -66,7 +67,12 @@ def test_run_writes_every_output(run_cli, tmp_path, monkeypatch):
     out = tmp_path / "run"
     code, stdout, err = run_cli(["simulate", "paper", "--cycles", "2", "--out", str(out), "--json"])
     assert code == 0, err
-    summary = json.loads(stdout)
+
+    def no_nan(word):
+        raise AssertionError(f"{word} in the JSON summary")
+
+    summary = json.loads(stdout, parse_constant=no_nan)  # strict JSON: null, not NaN
+    assert summary["max_bristle_strain"] is None  # the stand-in's bristles are one element
     for key in (
         "net_advance_mm",
         "advance_per_cycle_mm",
@@ -99,6 +105,10 @@ def test_run_writes_every_output(run_cli, tmp_path, monkeypatch):
     with xr.open_dataset(out / "crawler.nc") as ds:
         np.testing.assert_allclose(ds["delta"].values, h.delta)
         assert ds.sizes["frame"] <= 2 * 40 + 2
+    import meshio
+
+    frame = meshio.read(sorted((out / "vtk").glob("*.vtu"))[0])
+    np.testing.assert_array_equal(frame.point_data["thickness"], h.node_thickness)
 
 
 def test_actuator_option_selects_the_sma_history(run_cli, tmp_path, monkeypatch):
@@ -141,7 +151,7 @@ def _never_called(sc, options=None):
     raise AssertionError("the solver ran although the output folder was refused")
 
 
-@pytest.mark.parametrize("where", ["file", "under a file", "previous run"])
+@pytest.mark.parametrize("where", ["file", "under a file", "previous run", "dead link"])
 def test_an_unusable_out_folder_is_refused_before_the_solve(run_cli, tmp_path, monkeypatch, where):
     """A file, a path below a file, or a folder that already holds a run: one line, exit 2,
     the solver never runs and what was there is untouched."""
@@ -152,7 +162,11 @@ def test_an_unusable_out_folder_is_refused_before_the_solve(run_cli, tmp_path, m
     old.mkdir()
     (old / "meta.json").write_text('{"run_id": "old"}\n')
     (old / "shapes.png").write_bytes(b"old figure")
-    out = {"file": afile, "under a file": afile / "sub", "previous run": old}[where]
+    dead = tmp_path / "dead"
+    dead.symlink_to(tmp_path / "nowhere")
+    out = {"file": afile, "under a file": afile / "sub", "previous run": old, "dead link": dead}[
+        where
+    ]
     code, _, err = run_cli(["simulate", "paper", "--cycles", "1", "--out", str(out)])
     assert code == 2, err
     assert err.startswith("error:") and err.count("\n") == 1
@@ -169,7 +183,7 @@ def test_history_option_runs_a_recorded_shortening(run_cli, tmp_path, monkeypatc
         return kinematic_history(cycles=1, samples=40)
 
     monkeypatch.setattr("bristlecrawler.crawler.run.simulate_crawler", fake)
-    csv = tmp_path / "my history.csv"  # a space, quoted in the TOML value
+    csv = tmp_path / 'my "h" \\ é 😀.csv'  # quotes, a backslash, non-ASCII, outside the BMP
     csv.write_text("t,s\n0,0\n10,20\n20,0\n")
     out = tmp_path / "run"
     args = ["simulate", "paper", "--history", str(csv), "--no-figures", "--no-vtk"]
@@ -178,3 +192,21 @@ def test_history_option_runs_a_recorded_shortening(run_cli, tmp_path, monkeypatc
     assert seen["actuation"].kind == "history" and seen["actuation"].history == str(csv)
     code, _, err = run_cli([*args, "--actuator", "sma", "--out", str(tmp_path / "o2")])
     assert code == 2 and "not both" in err and not (tmp_path / "o2").exists()
+    code, _, err = run_cli([*args, "--cycles", "3", "--out", str(tmp_path / "o3")])
+    assert code == 2 and "--cycles does not apply" in err and not (tmp_path / "o3").exists()
+
+
+def test_numpy_scalars_are_plain_numbers_for_the_strict_schema():
+    """A sweep's numpy values pass (strict mode refuses bools and strings, not these)."""
+    from bristlecrawler.scenario.load import load_scenario
+
+    sc = job.apply_values(
+        load_scenario("paper"),
+        {
+            "bristle.elements": np.int64(30),
+            "bristle.alpha_deg": np.float32(30.0),
+            "substrate.pitch": np.float64(2.5),
+        },
+    )
+    assert sc.bristle.elements == 30 and type(sc.bristle.elements) is int
+    assert sc.bristle.alpha_deg == 30.0 and sc.substrate.pitch == 2.5

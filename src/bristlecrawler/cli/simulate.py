@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import shlex
 import sys
 from pathlib import Path
@@ -62,7 +61,12 @@ def simulate_cmd(
     """
     from bristlecrawler.errors import InputError
     from bristlecrawler.fe import enable_compilation_cache
-    from bristlecrawler.jobs.simulate import apply_overrides, run_simulation
+    from bristlecrawler.jobs.simulate import (
+        apply_overrides,
+        apply_values,
+        run_simulation,
+        summary_json,
+    )
     from bristlecrawler.scenario.load import load_scenario
 
     sc = load_scenario(scenario)
@@ -75,15 +79,18 @@ def simulate_cmd(
         if history is not None:
             raise InputError("give --actuator or --history, not both")
         sets.append(f'actuation.kind="{actuator}"')
-    if history is not None:
-        # json.dumps writes a TOML basic string (quotes and backslashes escaped).
-        sets += ['actuation.kind="history"', f"actuation.history={json.dumps(str(history))}"]
+    if history is not None and cycles is not None:
+        raise InputError("--cycles does not apply to --history (the file sets the stroke)")
     if no_figures:
         sets += ["output.figures=false", "output.animation=false"]
     if no_vtk:
         sets.append("output.vtk=false")
     if sets:
         sc = apply_overrides(sc, sets)
+    if history is not None:
+        # Set as a value, not a TOML string (any file name), absolute (config.json reruns).
+        path = str(history.expanduser().absolute())
+        sc = apply_values(sc, {"actuation.kind": "history", "actuation.history": path})
     enable_compilation_cache()
     run = run_simulation(
         sc,
@@ -94,7 +101,7 @@ def simulate_cmd(
     for w in run.summary["warnings"]:
         typer.echo(f"warning: {w}", err=True)
     if as_json:
-        typer.echo(json.dumps(run.summary))
+        typer.echo(summary_json(run.summary))
         return
     _print_summary(run.summary)
 

@@ -109,7 +109,7 @@ class PeriodicProfile:
 
 def drawing(profile: PeriodicProfile, x0: float, x1: float) -> np.ndarray:
     """The surface as a polyline covering x0..x1 (mm), (K, 2), for figures: the periods'
-    vertices, with the fillets (radii of hundredths of a mm) left out."""
+    vertices, with the fillets (rounded corners) left out."""
     v = np.asarray(profile.vertices, dtype=float)
     period = float(v[-1, 0] - v[0, 0])
     k0 = int(np.floor((x0 - v[-1, 0]) / period))

@@ -19,7 +19,16 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, field_validator
+import numpy as np
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from bristlecrawler.contact.substrates import PAPER_MU, Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
@@ -35,6 +44,14 @@ _MU = Field(
 class _Base(BaseModel):
     # strict: numbers must be numbers, not bools or strings (as in the scenario's sections)
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _plain_numbers(cls, data):
+        # numpy scalars as Python numbers, for strict mode
+        if isinstance(data, dict):
+            return {k: v.item() if isinstance(v, np.generic) else v for k, v in data.items()}
+        return data
 
     mu: float = _MU
 
@@ -96,7 +113,10 @@ class PolylineConfig(_Base):
     @field_validator("points", mode="before")
     @classmethod
     def _pairs(cls, value):
-        # TOML gives [[x, y], ...] as lists; strict mode takes tuples only.
+        # TOML gives [[x, y], ...] as lists (a caller may give an array); strict mode
+        # takes tuples of Python floats only.
+        if hasattr(value, "tolist"):
+            value = value.tolist()
         if isinstance(value, list | tuple):
             return [tuple(p) if isinstance(p, list) else p for p in value]
         return value
@@ -118,6 +138,8 @@ def parse_substrate(
     table: Mapping[str, Any],
 ) -> FlatConfig | GroovesConfig | SawtoothConfig | PolylineConfig:
     """Validate a ``[substrate]`` table and check its geometry; raise a one-line InputError."""
+    if not isinstance(table, Mapping):
+        raise InputError(f"substrate must be a table (kind = ..., ...), got {table!r}")
     try:
         cfg = _ADAPTER.validate_python(dict(table))
     except ValidationError as exc:

@@ -15,20 +15,24 @@ import numpy as np
 
 TIP_OPEN, TIP_STICK, TIP_SLIP = 0, 1, 2
 
-# Largest bending strain h kappa / 2 the beam model is trusted with: a radius of curvature
-# below the section's own thickness (strain 0.5) is outside beam theory. The paper
-# scenario's runs stay below 0.09 (pitch 2 mm, 20 elements per bristle); a tip element
-# that kinked by 51 degrees on a land as wide as the tip (pitch 1.5 mm) reached 1.17.
+# A bending strain h kappa / 2 above which the beam model certainly does not hold: a
+# radius of curvature below the section's own thickness. (A linear-elastic beam is
+# already doubtful from about 0.1-0.2.) The paper scenario's sin^2 runs reach 0.08 with
+# 20 elements per bristle and 0.17 with 40; a tip element that kinked by 51 degrees on a
+# land as wide as the tip (pitch 1.5 mm, 20 elements) reached 1.17.
 STRAIN_LIMIT = 0.5
 
 
 @dataclass(frozen=True)
 class StrainPeak:
-    """The largest bending strain of a run's frames, from the turn of the bristle's axis
-    between adjacent elements: strain = |dtheta| h / (2 l), l the two elements' mean
-    length, h the section thickness at their shared node. bristle: 0 left, 1 right; node:
-    index along the bristle from its clamp; t: s; first_over: the first frame time (s)
-    at which any strain exceeded :data:`STRAIN_LIMIT` (None if none did)."""
+    """The largest bending strain over a run's recorded steps (every accepted step, more
+    than the frames a run folder keeps), from the turn of a bristle's axis between
+    adjacent elements: strain = |dtheta| h / (2 l), l the two elements' mean length, h
+    the section thickness at their shared node. With shear-deformable beams the chords'
+    turn also holds the change of shear angle; the clamp node is not checked. bristle: 0
+    left, 1 right; node: index along the bristle from its clamp; t: s from the start of
+    the stroke (0 is the end of the gravity step); first_over: the first such time at
+    which any bristle's strain exceeded :data:`STRAIN_LIMIT` (None if none did)."""
 
     strain: float
     turn_deg: float
@@ -38,13 +42,22 @@ class StrainPeak:
     first_over: float | None = None
 
     def message(self) -> str:
-        return (
+        text = (
             f"bristle {('left', 'right')[self.bristle]} turns by {self.turn_deg:.1f} deg at "
             f"its node {self.node} (from the clamp) at t = {self.t:.3g} s: a bending "
-            f"strain of {self.strain:.2f} (above {STRAIN_LIMIT:g} from t = "
-            f"{self.first_over:.3g} s: a radius of curvature below the section's thickness, "
-            "outside the beam model); the run is not to be trusted from there (refine "
-            "bristle.elements)"
+            f"strain of {self.strain:.2f}"
+        )
+        if self.first_over is None:
+            return text
+        since = (
+            "the end of the gravity step"
+            if self.first_over <= 0.0
+            else (f"t = {self.first_over:.3g} s")
+        )
+        return (
+            f"{text}; strains above {STRAIN_LIMIT:g} (a radius of curvature below the "
+            f"section's thickness: outside the beam model) from {since} on, so the run is "
+            "not to be trusted from there (refine bristle.elements)"
         )
 
 

@@ -43,8 +43,8 @@ def git_revision() -> str:
     """Git revision of the source tree this package was imported from ("+dirty" if modified),
     or "unknown" outside a git checkout."""
     here = Path(__file__).resolve().parent
-    # git execs at once after the fork: JAX's warning about forking a threaded process
-    # does not apply.
+    # JAX warns when a threaded process forks; git is exec'd at once, so the warning would
+    # not apply (Python 3.11 spawns it without the fork hooks; later versions may not).
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message=r"os\.fork\(\) was called")
         return _git_revision(here)
@@ -78,6 +78,8 @@ def check_out_dir(out: str | os.PathLike | None) -> None:
     path = Path(out)
     if path.exists() and not path.is_dir():
         raise InputError(f"output path {path} exists and is not a folder")
+    if path.is_symlink() and not path.exists():
+        raise InputError(f"output path {path} is a link to nothing")
     if (path / "meta.json").exists():
         raise InputError(
             f"output folder {path} already holds a run (meta.json); give another --out "

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,9 +38,7 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
     re-validated; a bad assignment raises a one-line InputError."""
     import tomllib
 
-    from bristlecrawler.scenario.load import scenario_from_dict
-
-    data = sc.model_dump()
+    values = {}
     for item in assignments:
         key, sep, raw = item.partition("=")
         if not sep or not key.strip():
@@ -48,7 +47,18 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
             value = tomllib.loads(f"v = {raw.strip()}")["v"]
         except tomllib.TOMLDecodeError:
             value = raw.strip()  # bare words (kind = grooves) are strings
-        *path, last = key.strip().split(".")
+        values[key.strip()] = value
+    return apply_values(sc, values)
+
+
+def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
+    """The scenario with ``{"section.key": value}`` set (Python values, e.g. a path as
+    it is) and re-validated; an unknown key or a bad value raises a one-line InputError."""
+    from bristlecrawler.scenario.load import scenario_from_dict
+
+    data = sc.model_dump()
+    for key, value in values.items():
+        *path, last = key.split(".")
         node = data
         for part in path:
             if not isinstance(node.get(part), dict):
@@ -58,6 +68,20 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
             raise InputError(f"--set {key}: unknown parameter {last!r}")
         node[last] = value
     return scenario_from_dict(data, "scenario (with --set)")
+
+
+def summary_json(summary: dict[str, Any], indent: int | None = None) -> str:
+    """Strict JSON of a summary: a quantity that is not a finite number (a compile time
+    not measured, a strain without bristles drawn) is null, not NaN."""
+
+    def clean(v):
+        if isinstance(v, float) and not math.isfinite(v):
+            return None
+        if isinstance(v, list):
+            return [clean(x) for x in v]
+        return v
+
+    return json.dumps({k: clean(v) for k, v in summary.items()}, indent=indent, allow_nan=False)
 
 
 def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
@@ -167,5 +191,5 @@ def run_simulation(
 
         animate(framed, out_dir / "crawler")
     summary = summary | {"output_dir": str(out_dir)}
-    atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2) + "\n")
+    atomic_write_text(out_dir / "summary.json", summary_json(summary, indent=2) + "\n")
     return SimulationRun(h, summary, out_dir)

@@ -107,14 +107,18 @@ def _outline(x: np.ndarray, thickness: np.ndarray) -> np.ndarray:
     return np.concatenate([x + n, (x - n)[::-1]])
 
 
-def plot_shapes(h, zoom: float = 4.5):
+def plot_shapes(h, zoom: float = 4.5, max_rows: int = 10):
     """Deformed shapes at the start, full contraction and re-extension of each cycle (paper
     Fig. 5): the whole crawler with dashed verticals at its ends' positions and a 10 mm
     bar, and below it each bristle in a window ``zoom`` mm either side of its middle, with
     the grooves and mm axes."""
     plt = _pyplot()
-    n = max(h.cycles, 1)
+    # Without a period (a recorded or SMA history) the run is drawn as one stroke; of
+    # many cycles, at most ``max_rows`` evenly spaced ones (first and last included).
+    n_cycles = max(h.cycles, 1) if h.period is not None else 1
     period = h.period or (h.t[-1] - h.t[0])
+    rows = np.unique(np.linspace(0, n_cycles - 1, min(n_cycles, max_rows)).round().astype(int))
+    n = rows.size
     fig = plt.figure(figsize=(11.0, 2.6 * n + 0.7))
     outer = fig.add_gridspec(n, 3, hspace=0.3, wspace=0.15)
     xs = h.frame_nodes[..., 0]
@@ -122,10 +126,13 @@ def plot_shapes(h, zoom: float = 4.5):
     bristles = h.bristle_chains()
     y_sub = h.substrate_xy[:, 1]
     labels = ("start", "contracted", "re-extended")
-    for c in range(n):
+    for r, c in enumerate(rows):
         t0 = h.t[0] + c * period
-        for j, t in enumerate((t0, t0 + 0.5 * period, t0 + period)):
-            cell = outer[c, j].subgridspec(2, max(len(bristles), 1), height_ratios=(1.0, 2.0))
+        times = (t0, t0 + 0.5 * period, t0 + period)
+        if h.period is None:  # the fullest contraction of the whole history
+            times = (h.t[0], float(h.t[np.argmax(h.s)]), h.t[-1])
+        for j, t in enumerate(times):
+            cell = outer[r, j].subgridspec(2, max(len(bristles), 1), height_ratios=(1.0, 2.0))
             ax = fig.add_subplot(cell[0, :])
             f = _frame_at(h, t)
             draw_frame(ax, h, f, xlim, bar=10.0)
