@@ -19,19 +19,16 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal
 
-import numpy as np
 from pydantic import (
-    BaseModel,
-    ConfigDict,
     Field,
     TypeAdapter,
     ValidationError,
     field_validator,
-    model_validator,
 )
 
 from bristlecrawler.contact.substrates import PAPER_MU, Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
+from bristlecrawler.io.config import StrictSection
 
 _MU = Field(
     PAPER_MU,
@@ -41,17 +38,8 @@ _MU = Field(
 )
 
 
-class _Base(BaseModel):
-    # strict: numbers must be numbers, not bools or strings (as in the scenario's sections)
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _plain_numbers(cls, data):
-        # numpy scalars as Python numbers, for strict mode
-        if isinstance(data, dict):
-            return {k: v.item() if isinstance(v, np.generic) else v for k, v in data.items()}
-        return data
+class _Base(StrictSection):
+    """A substrate table (see :class:`StrictSection`)."""
 
     mu: float = _MU
 

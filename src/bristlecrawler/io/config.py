@@ -4,11 +4,28 @@ from __future__ import annotations
 
 from typing import Any, TypeVar
 
-from pydantic import BaseModel, ValidationError
+import numpy as np
+from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 
 from bristlecrawler.errors import InputError
 
 M = TypeVar("M", bound=BaseModel)
+
+
+class StrictSection(BaseModel):
+    """A table of a configuration file: unknown keys refused, frozen, and strict: a number
+    must be a number (TOML 45 or 45.0), not a bool or the string "45" (lax mode took
+    ``--set bristle.elements=true`` as one element). A numpy scalar (a sweep's
+    ``np.linspace`` value) is taken as its Python number."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _plain_numbers(cls, data):
+        if isinstance(data, dict):
+            return {k: v.item() if isinstance(v, np.generic) else v for k, v in data.items()}
+        return data
 
 
 def first_error_message(exc: ValidationError) -> str:

@@ -4,24 +4,14 @@ from __future__ import annotations
 
 from typing import Literal
 
-import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
 from bristlecrawler.contact.substrate_config import GroovesConfig, SubstrateConfig
+from bristlecrawler.io.config import StrictSection
 
 
-class _Section(BaseModel):
-    # strict: a number must be a number (TOML 45, 45.0), not a bool or the string "45"
-    # (lax mode took --set bristle.elements=true as 1 element and reported it as too few).
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _plain_numbers(cls, data):
-        # numpy scalars (a sweep's np.linspace values) as Python numbers, for strict mode
-        if isinstance(data, dict):
-            return {k: v.item() if isinstance(v, np.generic) else v for k, v in data.items()}
-        return data
+class _Section(StrictSection):
+    """A section of a scenario (see :class:`StrictSection`)."""
 
 
 def _pos(default: float, text: str):
