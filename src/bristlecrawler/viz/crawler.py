@@ -56,10 +56,12 @@ def draw_frame(
     ylim: tuple[float, float] | None = None,
     axes: bool = False,
     bar: float | None = None,
+    chains: list[np.ndarray] | None = None,
 ) -> None:
     """Draw frame ``f``: body black, links grey, bristles red, substrate grey; ``axes``
     keeps the axes with their mm ticks (zoomed views), else a scale bar ``bar`` mm long
-    is drawn below the substrate at the left."""
+    is drawn below the substrate at the left. ``chains``: ``h.bristle_chains()``, passed
+    by callers that draw many frames so that it is found once."""
     nodes = h.frame_nodes[f]
     colors = {0: "k", 1: "0.3", 2: "tab:red"}
     widths = {0: 2.5, 1: 1.5, 2: 1.2}
@@ -68,7 +70,7 @@ def draw_frame(
         for a, b in segs:
             ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color=colors[kind], lw=widths[kind])
     if h.node_thickness is not None:
-        for chain in h.bristle_chains():
+        for chain in h.bristle_chains() if chains is None else chains:
             ax.fill(
                 *_outline(nodes[chain], h.node_thickness[chain]).T,
                 color="tab:red",
@@ -135,7 +137,7 @@ def plot_shapes(h, zoom: float = 4.5, max_rows: int = 10):
             cell = outer[r, j].subgridspec(2, max(len(bristles), 1), height_ratios=(1.0, 2.0))
             ax = fig.add_subplot(cell[0, :])
             f = _frame_at(h, t)
-            draw_frame(ax, h, f, xlim, bar=10.0)
+            draw_frame(ax, h, f, xlim, bar=10.0, chains=bristles)
             m = int(np.argmin(np.abs(h.t - h.frame_t[f])))
             for x in (h.left[m, 0], h.right[m, 0]):
                 ax.axvline(x, color="tab:blue", ls="--", lw=0.8)
@@ -148,7 +150,7 @@ def plot_shapes(h, zoom: float = 4.5, max_rows: int = 10):
                 top = float(nodes[ix, 1].max()) + half
                 zax = fig.add_subplot(cell[1, k])
                 ylim = (float(y_sub.min()) - 0.4, top + 0.4)
-                draw_frame(zax, h, f, (zx - zoom, zx + zoom), ylim, axes=True)
+                draw_frame(zax, h, f, (zx - zoom, zx + zoom), ylim, axes=True, chains=bristles)
                 zax.set_xlabel("x (mm)", fontsize=6, labelpad=1)
                 if k == 0:
                     zax.set_ylabel("y (mm)", fontsize=6, labelpad=1)
@@ -166,9 +168,10 @@ def animate(h, path_stem, fps: float = 12.0):
 
     xs = h.frame_nodes[..., 0]
     xlim = (float(xs.min()) - 3.0, float(xs.max()) + 3.0)
+    chains = h.bristle_chains()
 
     def draw(ax, f):
-        draw_frame(ax, h, f, xlim, bar=10.0)
+        draw_frame(ax, h, f, xlim, bar=10.0, chains=chains)
         ax.set_title(f"t = {h.frame_t[f]:.1f} s", fontsize=9)
 
     return write_animation(draw, h.frame_t.size, path_stem, fps=fps, figsize=(9.0, 2.2))
