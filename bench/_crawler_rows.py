@@ -14,9 +14,11 @@ def run_rows(base, variants, extra_columns: bool = False) -> list[dict]:
     of the bristles (above 0.5 a warning follows the row: outside the beam model).
     ``extra_columns`` adds the advance of each cycle, the mean |F_c| (N) and the first
     frequency (Hz)."""
-    from bristlecrawler.crawler.run import RunOptions, simulate_crawler
+    from bristlecrawler.crawler import run
     from bristlecrawler.errors import SolverError
-    from bristlecrawler.jobs.simulate import apply_overrides, summarize
+    from bristlecrawler.jobs.simulate import summarize
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import apply_overrides
 
     head = (
         f"{'run':<20} {'advance mm':>11} {'d adv mm':>9} {'work mJ':>8} {'d work %':>9} "
@@ -32,7 +34,7 @@ def run_rows(base, variants, extra_columns: bool = False) -> list[dict]:
         sc = apply_overrides(base, sets)
         t0 = time.perf_counter()
         try:
-            h = simulate_crawler(sc, RunOptions(progress=False))
+            h = run(to_spec(sc))
         except SolverError as e:
             print(f"{label:<20} FAILED: {e}", flush=True)
             out.append(None)

@@ -1,6 +1,6 @@
 """Benchmark of the FE crawler (issue #5): the paper scenario, wall time, steps, iterations.
 
-Runs ``bristlecrawler.crawler.simulate_crawler`` on a shipped scenario (default ``paper``)
+Runs ``bristlecrawler.crawler.run`` on a shipped scenario (default ``paper``)
 with optional ``--set section.key=value`` overrides (as in ``bristlecrawler simulate``),
 twice by default: the first run includes compilation, the second (same process, programs
 cached) does not. Prints a table (wall times per step and per iteration of the whole run)
@@ -29,11 +29,12 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     a = ap.parse_args()
 
-    from bristlecrawler.crawler.run import RunOptions, simulate_crawler
+    from bristlecrawler.crawler import run
     from bristlecrawler.errors import SolverError
     from bristlecrawler.fe import enable_compilation_cache
-    from bristlecrawler.jobs.simulate import apply_overrides, summarize
-    from bristlecrawler.scenario.load import load_scenario
+    from bristlecrawler.jobs.simulate import summarize
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
     enable_compilation_cache()
     sc = load_scenario(a.scenario)
@@ -56,7 +57,7 @@ def main() -> None:
     for r in range(a.repeat):
         t0 = time.perf_counter()
         try:
-            h = simulate_crawler(sc, RunOptions(progress=False))
+            h = run(to_spec(sc))
             failed = None
         except SolverError as e:
             h, failed = getattr(e, "partial", None), str(e)

@@ -42,7 +42,8 @@ def _capture(sc, every: int, stop: bool = False):
     import jax
 
     import bristlecrawler.fe.drivers as drivers
-    from bristlecrawler.crawler.run import RunOptions, simulate_crawler
+    from bristlecrawler.crawler import RunOptions, run
+    from bristlecrawler.scenario.convert import to_spec
 
     settle = float(sc.actuation.settle_time)
     kept, seen, steps = [], [0], []
@@ -71,7 +72,7 @@ def _capture(sc, every: int, stop: bool = False):
     drivers.make_step = recording
     drivers.make_host_driver.cache_clear()
     try:
-        simulate_crawler(sc, RunOptions(progress=False, driver="host"))
+        run(to_spec(sc), options=RunOptions(driver="host"))
     except _Stop:
         pass
     finally:
@@ -111,8 +112,7 @@ def main() -> None:
 
     enable_compilation_cache()
     from bristlecrawler.errors import InputError, SolverError
-    from bristlecrawler.jobs.simulate import apply_overrides
-    from bristlecrawler.scenario.load import load_scenario
+    from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
     if a.save is not None:
         # --cycles first, so that a --set of actuation.cycles wins.

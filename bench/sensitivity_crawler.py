@@ -35,8 +35,7 @@ def main() -> None:
     a = ap.parse_args()
 
     from bristlecrawler.fe import enable_compilation_cache
-    from bristlecrawler.jobs.simulate import apply_overrides
-    from bristlecrawler.scenario.load import load_scenario
+    from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
     enable_compilation_cache()
     base = apply_overrides(load_scenario(a.scenario), [*a.sets, f"actuation.cycles={a.cycles}"])

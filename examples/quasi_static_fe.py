@@ -42,8 +42,8 @@ def turning_points(ds) -> dict[str, float]:
 def run_pair(out_root: Path) -> tuple[Path, Path]:
     """Run the paper scenario for one cycle with each actuator; returns the two folders."""
     from bristlecrawler.fe import enable_compilation_cache
-    from bristlecrawler.jobs.simulate import apply_overrides, run_simulation
-    from bristlecrawler.scenario.load import load_scenario
+    from bristlecrawler.jobs.simulate import run_simulation
+    from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
     enable_compilation_cache()
     folders = []

@@ -5,9 +5,14 @@ import pytest
 
 from bristlecrawler.contact.corner import FaceCornerContact
 from bristlecrawler.contact.term import SubstrateContact
-from bristlecrawler.crawler.model import build_crawler
+from bristlecrawler.crawler import build
+from bristlecrawler.scenario.convert import to_spec
 from bristlecrawler.scenario.load import load_scenario
 from bristlecrawler.scenario.schema import Scenario
+
+
+def build_crawler(sc):
+    return build(to_spec(sc))
 
 
 def _scenario(**contact):
@@ -38,7 +43,7 @@ def test_corner_term_outlines_each_bristle():
 @pytest.mark.parametrize("discs", [False, True])
 def test_axis_points_as_discs_of_half_thickness(discs):
     cm = build_crawler(_scenario(surface=False, discs=discs))
-    p = cm.model.params.extra[0]
+    p = cm.contact_params
     r = np.asarray(p.radius)
     if not discs:
         assert np.all(r == 0)
@@ -57,7 +62,7 @@ def test_stick_drift_sets_the_stick_penalty(drift):
     sc = _scenario(stick_drift=drift)
     cm = build_crawler(sc)
     b, br = sc.body, sc.bristle
-    mass = 2 * b.end_mass + 2 * br.density * br.width * br.length * 0.5 * (
+    mass = b.mass + 2 * br.density * br.width * br.length * 0.5 * (
         br.thickness_clamp + br.thickness_tip
     )
     limit = sc.substrate.mu * mass * sc.gravity / 2

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
+from bristlecrawler.crawler.dataset import crawler_dataset
 from bristlecrawler.crawler.history import CrawlerHistory
-from bristlecrawler.io.crawler_dataset import crawler_dataset
 from bristlecrawler.io.netcdf import write_netcdf
 from bristlecrawler.viz import crawler as vc
 from bristlecrawler.viz.reduced import save_figure
@@ -66,10 +66,9 @@ def test_bristle_outline_lies_half_the_thickness_either_side_of_the_axis():
 def test_bristle_chains_are_read_back_from_the_drawing_clamp_to_tip():
     from types import SimpleNamespace
 
-    from bristlecrawler.crawler.model import build_crawler
-    from bristlecrawler.scenario.load import load_scenario
+    from bristlecrawler.crawler import CrawlerSpec, build
 
-    cm = build_crawler(load_scenario("paper"))
+    cm = build(CrawlerSpec.paper())
     X = np.asarray(cm.model.params.X)[None, :, :2]
     drawn = SimpleNamespace(lines=cm.lines, line_kind=cm.line_kind, frame_nodes=X)
     chains = CrawlerHistory.bristle_chains(drawn)  # reads lines, line_kind, frame_nodes

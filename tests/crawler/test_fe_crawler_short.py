@@ -14,9 +14,9 @@ import functools
 import numpy as np
 import pytest
 
-from bristlecrawler.crawler.run import RunOptions, simulate_crawler
-from bristlecrawler.jobs.simulate import apply_overrides
-from bristlecrawler.scenario.load import load_scenario
+from bristlecrawler.crawler import run as run_crawler
+from bristlecrawler.scenario.convert import to_spec
+from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
 
 @functools.cache
@@ -37,7 +37,7 @@ def _run(freeze: int):
             f"solver.freeze_iterations={freeze}",
         ],
     )
-    return sc, simulate_crawler(sc, RunOptions(progress=False))
+    return sc, run_crawler(to_spec(sc))
 
 
 # Newton with and without the frozen-status start (solver.freeze_iterations).
@@ -74,7 +74,7 @@ def test_mirror_symmetric_crawler_does_not_advance(run):
 
 def test_forces_are_the_friction_scale_and_dissipation_never_decreases(run):
     sc, h = run
-    weight = 2 * sc.body.end_mass * sc.gravity
+    weight = sc.body.mass * sc.gravity
     # Sliding at both tips is resisted by at most mu times the weight.
     assert np.max(np.abs(h.connector_force)) < 1.5 * sc.substrate.mu * weight
     friction = h.energies["friction"]
@@ -104,12 +104,12 @@ def test_runs_of_one_structure_share_the_observer_and_use_their_own_laws():
     import jax.numpy as jnp
 
     from bristlecrawler import fe
-    from bristlecrawler.crawler.model import build_crawler
-    from bristlecrawler.crawler.run import _observer
+    from bristlecrawler.crawler import build
+    from bristlecrawler.crawler.record import observer
 
     sc, _ = _run(0)
-    cms = [build_crawler(sc), build_crawler(apply_overrides(sc, ["contact.stick_drift=3e-3"]))]
-    assert _observer(cms[0]) is _observer(cms[1])
+    cms = [build(to_spec(sc)), build(to_spec(apply_overrides(sc, ["contact.stick_drift=3e-3"])))]
+    assert observer(cms[0]) is observer(cms[1])
     state = fe.initial_state(cms[0].model)
     p_n, f_t = 0.3, 0.1  # N, on every contact point
     hist = tuple(
@@ -120,9 +120,9 @@ def test_runs_of_one_structure_share_the_observer_and_use_their_own_laws():
     n = sum(h.p_n.size for h in hist)
     pens = []
     for cm in cms:
-        law = cm.model.params.extra[0].law
+        law = cm.contact_params.law
         expect = n * (0.5 * p_n**2 / float(law.k_n) + 0.5 * f_t**2 / float(law.k_t))
-        pen = float(_observer(cm)(state, cm.model.params)["energies"][4])
+        pen = float(observer(cm)(state, cm.model.params)["energies"][4])
         assert pen == pytest.approx(expect, rel=1e-12)
         pens.append(pen)
     assert pens[1] > pens[0]  # the softer stick penalty stores more energy

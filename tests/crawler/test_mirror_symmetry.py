@@ -21,10 +21,10 @@ import numpy as np
 import pytest
 
 from bristlecrawler.contact.coulomb import SLIP, STICK
-from bristlecrawler.crawler.model import build_crawler
+from bristlecrawler.crawler import build
 from bristlecrawler.fe import assembly
-from bristlecrawler.jobs.simulate import apply_overrides
-from bristlecrawler.scenario.load import load_scenario
+from bristlecrawler.scenario.convert import to_spec
+from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
 FLIP = np.array([-1.0, 1.0, -1.0])  # (x, y, rotation) under x -> L - x
 
@@ -34,7 +34,7 @@ def _crawler():
     sc = apply_overrides(
         load_scenario("paper-vertical"), ["bristle.elements=6", "substrate.phase=0.5"]
     )
-    cm = build_crawler(sc)
+    cm = build(to_spec(sc))
     X = np.asarray(cm.model.params.X)[:, :2]
     L = sc.body.length
     d = np.hypot(X[None, :, 0] - (L - X[:, None, 0]), X[None, :, 1] - X[:, None, 1])

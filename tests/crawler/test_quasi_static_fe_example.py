@@ -30,7 +30,7 @@ def test_turning_points_of_a_quasi_static_run(run_cli, tmp_path, monkeypatch):
     for cycles in (1, 2):
         h = kinematic_history(cycles=cycles, samples=200)
         monkeypatch.setattr(
-            "bristlecrawler.crawler.run.simulate_crawler", lambda sc, options=None, h=h: h
+            "bristlecrawler.jobs.simulate.solve", lambda spec, progress=None, h=h: h
         )
         out = tmp_path / f"run{cycles}"
         code, _, err = run_cli(

@@ -13,10 +13,10 @@ import functools
 
 import pytest
 
-from bristlecrawler.crawler.run import RunOptions, simulate_crawler
-from bristlecrawler.jobs.simulate import apply_overrides
+from bristlecrawler.crawler import run
 from bristlecrawler.scenario import scenario_from_dict
-from bristlecrawler.scenario.load import load_scenario
+from bristlecrawler.scenario.convert import to_spec
+from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
 
 @functools.cache
@@ -37,7 +37,7 @@ def _advance(drift: float) -> float:
             f"contact.stick_drift={drift!r}",
         ],
     )
-    return simulate_crawler(sc, RunOptions(progress=False)).net_advance
+    return run(to_spec(sc)).net_advance
 
 
 def test_the_gait_does_not_depend_on_a_small_stick_drift():

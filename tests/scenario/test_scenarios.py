@@ -12,7 +12,7 @@ def test_shipped_scenarios_hold_the_paper_values():
     assert {"paper", "paper-vertical"} <= set(available_scenarios())
     p = load_scenario("paper")
     assert p.bristle.alpha_deg == pytest.approx(math.degrees(math.pi / 4))
-    assert (p.body.length, 2 * p.body.end_mass) == (100.0, pytest.approx(5.5e-5))
+    assert (p.body.length, p.body.mass) == (100.0, pytest.approx(5.5e-5))
     assert (p.bristle.thickness_clamp, p.bristle.thickness_tip, p.bristle.length) == (3, 0.5, 5)
     assert p.bristle.youngs_modulus == 1.1 and p.bristle.density == pytest.approx(1.3e-9)
     assert (p.substrate.width, p.substrate.depth, p.substrate.mu) == (1.0, 0.25, 0.65)

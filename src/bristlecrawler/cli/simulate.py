@@ -61,13 +61,8 @@ def simulate_cmd(
     """
     from bristlecrawler.errors import InputError
     from bristlecrawler.fe import enable_compilation_cache
-    from bristlecrawler.jobs.simulate import (
-        apply_overrides,
-        apply_values,
-        run_simulation,
-        summary_json,
-    )
-    from bristlecrawler.scenario.load import load_scenario
+    from bristlecrawler.jobs.simulate import run_simulation, summary_json
+    from bristlecrawler.scenario.load import apply_overrides, apply_values, load_scenario
 
     sc = load_scenario(scenario)
     sets = list(assign or [])

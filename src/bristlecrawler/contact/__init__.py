@@ -12,7 +12,8 @@ Public API (units: mm, N, s, mJ; everything float64 JAX, pure, jit/vmap/grad-abl
   :func:`normal_energy`, :func:`friction_potential`; states :data:`OPEN`, :data:`STICK`,
   :data:`SLIP`; :data:`PAPER_TIP_LOAD`; :data:`STICK_TOL` (the stick/slip tie).
 * contact node on a substrate: :func:`node_potential`, :func:`node_force`, :func:`node_step`.
-* TOML/pydantic edge: :func:`parse_substrate` and the ``*Config`` models.
+
+The TOML tables that describe substrates are validated in :mod:`bristlecrawler.scenario`.
 """
 
 from bristlecrawler.contact.coulomb import (
@@ -32,14 +33,6 @@ from bristlecrawler.contact.coulomb import (
 )
 from bristlecrawler.contact.node import node_force, node_potential, node_step
 from bristlecrawler.contact.profile import PeriodicProfile, Projection, gap, project, project_points
-from bristlecrawler.contact.substrate_config import (
-    FlatConfig,
-    GroovesConfig,
-    PolylineConfig,
-    SawtoothConfig,
-    SubstrateConfig,
-    parse_substrate,
-)
 from bristlecrawler.contact.substrates import (
     PAPER_GROOVES,
     PAPER_MU,
@@ -60,16 +53,11 @@ __all__ = [
     "CoulombLaw",
     "CoulombStep",
     "Flat",
-    "FlatConfig",
     "Grooves",
-    "GroovesConfig",
     "PeriodicProfile",
     "Polyline",
-    "PolylineConfig",
     "Projection",
     "Sawtooth",
-    "SawtoothConfig",
-    "SubstrateConfig",
     "friction_potential",
     "gap",
     "generalized_forces",
@@ -79,7 +67,6 @@ __all__ = [
     "node_step",
     "normal_energy",
     "normal_force",
-    "parse_substrate",
     "project",
     "project_points",
     "return_map",

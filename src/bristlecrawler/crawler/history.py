@@ -29,8 +29,8 @@ class StrainPeak:
     than the frames a run folder keeps), from the turn of a bristle's axis between
     adjacent elements: strain = |dtheta| h / (2 l), l the two elements' mean length, h
     the section thickness at their shared node. With shear-deformable beams the chords'
-    turn also holds the change of shear angle; the clamp node is not checked. bristle: 0
-    left, 1 right; node: index along the bristle from its clamp; t: s from the start of
+    turn also holds the change of shear angle; the clamp node is not checked. bristle:
+    its index from the left; node: index along the bristle from its clamp; t: s from the start of
     the stroke (0 is the end of the gravity step); first_over: the first such time at
     which any bristle's strain exceeded :data:`STRAIN_LIMIT` (None if none did)."""
 
@@ -43,7 +43,7 @@ class StrainPeak:
 
     def message(self) -> str:
         text = (
-            f"bristle {('left', 'right')[self.bristle]} turns by {self.turn_deg:.1f} deg at "
+            f"bristle {self.bristle} (from the left) turns by {self.turn_deg:.1f} deg at "
             f"its node {self.node} (from the clamp) at t = {self.t:.3g} s: a bending "
             f"strain of {self.strain:.2f}"
         )
@@ -66,8 +66,8 @@ class CrawlerHistory:
     """Time series (index m) and frames (index f) of a run.
 
     Attributes:
-        t: times, s, (M,). s: shortening, mm, (M,).
-        left, right: positions (x, y) of the body's left and right ends, mm, (M, 2).
+        t: times, s, (M,), from the start of the stroke. s: shortening, mm, (M,).
+        left, right: positions (x, y) of the body's first and last node, mm, (M, 2).
         connector_force: F_c, N, (M,). connector_work: W_c, mJ, (M,).
         tip_position: (x, y) of each bristle tip, mm, (M, B, 2).
         tip_state: 0 open, 1 stick, 2 slip, (M, B).
@@ -82,6 +82,12 @@ class CrawlerHistory:
             None: not recorded), for drawing the bristles' outlines.
         cycles: number of cycles.
         stats: counters of the solve (steps, iterations, wall time, ...).
+        segment_shortening: shortening of each body segment, mm, (M, S) (S = bristles - 1;
+            ``s`` is the first segment's).
+        segment_force: connector force of each segment's actuator, N, (M, S)
+            (``connector_force`` is the first segment's; ``connector_work`` is the work of
+            all of them).
+        name: the design's name.
     """
 
     t: np.ndarray
@@ -102,6 +108,9 @@ class CrawlerHistory:
     cycles: int = 1
     stats: dict = field(default_factory=dict)
     node_thickness: np.ndarray | None = None
+    segment_shortening: np.ndarray | None = None
+    segment_force: np.ndarray | None = None
+    name: str = "custom"
 
     @property
     def delta(self) -> np.ndarray:
@@ -171,6 +180,51 @@ class CrawlerHistory:
                 turn_deg = float(np.degrees(turn[f, j]))
                 best = StrainPeak(float(strain[f, j]), turn_deg, k, int(j) + 1, t)
         return None if best is None else dataclasses.replace(best, first_over=first)
+
+    def to_dataset(self, attrs: dict | None = None):
+        """The run as an xarray Dataset (see :mod:`bristlecrawler.crawler.dataset`)."""
+        from bristlecrawler.crawler.dataset import crawler_dataset
+
+        return crawler_dataset(self, attrs)
+
+    def summary(self) -> dict:
+        """Summary numbers of the run, units in the key names (the CLI's summary.json)."""
+        adv = self.advance_per_cycle()
+        work = self.connector_work
+        b = self.cycle_bounds()
+        st = self.stats
+        peak = self.strain_peak()
+        warnings = []
+        if peak is not None and peak.strain > STRAIN_LIMIT:
+            warnings.append(peak.message())
+        nan = float("nan")
+        force = self.connector_force if self.segment_force is None else self.segment_force
+        span = max(self.t[-1] - self.t[0], 1e-300)
+        return {
+            "scenario": self.name,
+            "bristles": int(self.tip_position.shape[1]),
+            "net_advance_mm": self.net_advance,
+            "advance_per_cycle_mm": adv.tolist(),
+            "work_mJ": float(work[-1]),
+            "work_per_cycle_mJ": np.diff(work[b]).tolist(),
+            "mean_abs_connector_force_N": float(
+                np.trapezoid(np.abs(self.connector_force), self.t) / span
+            ),
+            "max_abs_connector_force_N": float(np.max(np.abs(force))),
+            "energy_balance_rel_error": self.energy_balance_rel_error(),
+            "friction_dissipation_mJ": float(self.energies.get("friction", [0.0])[-1]),
+            "damping_dissipation_mJ": float(self.energies.get("damping", [0.0])[-1]),
+            "wall_time_s": float(st.get("wall_time_s", nan)),
+            "compile_time_s": float(st.get("compile_time_s", nan)),
+            "stroke_wall_time_s": float(st.get("stroke_wall_time_s", nan)),
+            "steps": int(st.get("steps", self.t.size - 1)),
+            "newton_iterations": int(st.get("newton_iterations", 0)),
+            "rejected_steps": int(st.get("rejected_steps", 0)),
+            "first_frequency_hz": float(st.get("first_frequency_hz", nan)),
+            "rayleigh_a0_per_s": float(st.get("rayleigh_a0", nan)),
+            "max_bristle_strain": nan if peak is None else peak.strain,
+            "warnings": warnings,
+        }
 
     def energy_balance_residual(self) -> np.ndarray:
         """external - (elastic + kinetic + potential + friction + damping), mJ."""

@@ -1,13 +1,14 @@
-"""Assembly of the finite-element bristle crawler from a :class:`Scenario` (paper Sec. 3).
+"""Assembly of the FE bristle crawler from a :class:`CrawlerSpec` (paper Section 3).
 
-Geometry (x right, y up, mm): the left end of the body is the master node (a rigid body that
-can translate and pitch); the right end is a slave at the body length L - s(t) (the
-actuator); rigid vertical links of ``link_length`` go down from both ends to the clamps; each
-bristle is a chain of tapered corotational beam elements from its clamp, inclined by alpha
-from the vertical with the tip trailing (to the left for alpha > 0), so the tip starts on
-the substrate's top level y = 0. Point masses of ``end_mass`` sit at both ends; bristle
-masses come from their density. Tips (or all bristle nodes) are in frictional contact with
-the rigid substrate.
+Geometry (x right, y up, mm): one body node above each bristle's clamp, at its position
+along the body. The first body node is the master (a rigid body that can translate and
+pitch); each next body node is a slave of the one before at the segment's rest length
+minus its shortening s_j(t) (the actuators). Rigid vertical links go down from the body
+nodes to the clamps; each bristle is a chain of tapered corotational beam elements from
+its clamp, inclined by alpha from the vertical with the tip trailing (to the left for
+alpha > 0), so every tip starts on the substrate's top level y = 0. The body's mass is
+shared equally by its nodes; the bristles' masses come from their density. The tips (or
+all bristle nodes) are in frictional contact with the rigid substrate.
 """
 
 from __future__ import annotations
@@ -18,203 +19,243 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bristlecrawler.errors import InputError
-from bristlecrawler.scenario.schema import Scenario
+from bristlecrawler.crawler.spec import Bristle, CrawlerSpec
+
+#: Initial penetration of the tips, mm: they start just touching the substrate's top.
+_PENETRATION0 = 1e-3
+
+LINE_BODY, LINE_LINK, LINE_BRISTLE = 0, 1, 2
 
 
 @dataclass(frozen=True)
 class CrawlerModel:
-    """The built model and the node bookkeeping a run needs."""
+    """A built crawler: the FE model and the node bookkeeping a run needs.
 
-    model: object  # bristlecrawler.fe.Model
-    scenario: Scenario
-    left: int
-    right: int
-    clamps: tuple[int, int]
-    bristles: tuple[tuple[int, ...], tuple[int, ...]]
-    contact_nodes: tuple[int, ...]
-    contact_term_index: int
-    tip_points: tuple[tuple[int, ...], tuple[int, ...]]
-    right_subtree: tuple[int, ...]
+    Attributes:
+        model: the :class:`bristlecrawler.fe.Model`.
+        spec: the :class:`CrawlerSpec` it was built from.
+        body: body node of each bristle, left to right.
+        clamps: clamp node of each bristle.
+        bristles: node chain of each bristle, clamp to tip.
+        contact: the point-contact term (:class:`contact.SubstrateContact`).
+        corners: the corner-to-face term, or None.
+        tip_points: indices among the contact term's points that belong to each tip.
+        subtrees: for each body segment, the nodes beyond it (those its actuator pushes).
+        lines: line-cell connectivity of the drawing, (C, 2).
+        line_kind: :data:`LINE_BODY`, :data:`LINE_LINK` or :data:`LINE_BRISTLE` per cell.
+    """
+
+    model: object
+    spec: CrawlerSpec
+    body: tuple[int, ...]
+    clamps: tuple[int, ...]
+    bristles: tuple[tuple[int, ...], ...]
+    contact: object
+    corners: object | None
+    tip_points: tuple[tuple[int, ...], ...]
+    subtrees: tuple[tuple[int, ...], ...]
     lines: np.ndarray
     line_kind: np.ndarray
-    t_start: float
 
     @property
-    def tips(self) -> tuple[int, int]:
-        return self.bristles[0][-1], self.bristles[1][-1]
+    def tips(self) -> tuple[int, ...]:
+        return tuple(chain[-1] for chain in self.bristles)
+
+    @property
+    def left(self) -> int:
+        return self.body[0]
+
+    @property
+    def right(self) -> int:
+        return self.body[-1]
+
+    @property
+    def contact_params(self):
+        """Parameters of the point-contact term (its friction law, substrate, points)."""
+        return self.model.params.extra[self.model.terms.index(self.contact)]
+
+    def node_thickness(self) -> np.ndarray:
+        """Section thickness at every node, mm (0 off the bristles)."""
+        out = np.zeros(self.model.params.X.shape[0])
+        for chain, b in zip(self.bristles, self.spec.bristles, strict=True):
+            out[list(chain)] = b.node_thickness()
+        return out
 
 
-def _stretch(sc: Scenario):
+def _drop(b: Bristle, c) -> tuple[float, float]:
+    """(height of the clamp above the tip's start, height of the tip's axis), mm.
+
+    With surface contact the tip's lower face corner touches the surface, not its axis;
+    a disc touches it with its rim."""
+    lift = 0.5 * b.thickness_tip * abs(math.sin(b.alpha)) if c.surface else 0.0
+    if c.discs and not c.surface:
+        lift = 0.5 * b.thickness_tip
+    return b.length * math.cos(b.alpha) + lift - _PENETRATION0, lift - _PENETRATION0
+
+
+def stretches(spec: CrawlerSpec) -> list:
+    """The prescribed stretch of each body segment (minus its shortening, mm)."""
     from bristlecrawler.crawler.actuation import DelayedSin2, SampledStretch
 
-    a = sc.actuation
-    delay = a.settle_time
-    if a.kind == "sin2":
-        return DelayedSin2(float(a.s_max), float(a.period), float(delay), float(a.cycles))
-    if a.kind == "history":
-        from bristlecrawler.reduced.strokes import read_history_csv
-
-        st = read_history_csv(a.history)
-    else:
-        from bristlecrawler.experiment.sma import SMAActuator, run_sma
-
-        st = run_sma(SMAActuator(s_target=a.s_max), a.cycles).stroke()
-    if st.s_max >= sc.body.length:
-        raise InputError(f"history: shortening {st.s_max:g} mm reaches the body length")
-    return SampledStretch(np.asarray(st.t - st.t[0]), np.asarray(st.s), float(delay))
+    a = spec.actuation
+    out = []
+    for delay in a.delays(spec.segments):
+        start = a.settle_time + delay
+        if a.history is None:
+            out.append(DelayedSin2(float(a.s_max), float(a.period), float(start), float(a.cycles)))
+        else:
+            t, s = (np.asarray(v, dtype=float) for v in a.history)
+            out.append(SampledStretch(t, s, float(start)))
+    return out
 
 
-def stroke_duration(sc: Scenario) -> float:
-    """Duration of step 2, s."""
-    a = sc.actuation
-    if a.kind == "sin2":
-        return a.cycles * a.period
-    st = _stretch(sc)
-    return float(st.t[-1])
-
-
-def build_crawler(
-    sc: Scenario,
-    contact: str | None = None,
-    penalty_load: float | None = None,
-    surface: bool | None = None,
-    corners: bool | None = None,
-):
-    """Build the FE model of scenario ``sc``.
-
-    ``contact`` ("tip" or "all" bristle nodes), ``surface`` (contact points on both faces
-    of the beam rather than on its axis) and ``penalty_load`` (N) override the scenario's
-    ``[contact]`` table.
-    """
+def _body_and_bristles(s, spec: CrawlerSpec):
+    """Body nodes, masses, actuated links, clamps and bristle chains."""
     from bristlecrawler import fe
+
+    c = spec.contact
+    drops = [_drop(b, c) for b in spec.bristles]
+    y_body = spec.body.link_length + max(d[0] for d in drops)
+    body = [s.node(b.position, y_body) for b in spec.bristles]
+    m = spec.body.mass / len(body)
+    for n in body:
+        s.point_mass(n, m)
+    for prev, nxt, stretch in zip(body[:-1], body[1:], stretches(spec), strict=True):
+        s.rigid_link(nxt, prev, stretch=stretch)
+    if not spec.body.free_pitch:
+        s.fix(body[0], "theta")
+    chains, clamps = [], []
+    for node, b, (drop, tip_y) in zip(body, spec.bristles, drops, strict=True):
+        section = fe.TaperedRect(
+            E=b.youngs_modulus,
+            b=b.width,
+            h0=b.thickness_clamp,
+            h1=b.thickness_tip,
+            rho=b.density,
+            nu=b.poisson_ratio,
+            shear=b.shear,
+        )
+        clamp = s.node(b.position, drop)
+        s.rigid_link(clamp, node)
+        tip = (b.position - b.length * math.sin(b.alpha), tip_y)
+        chains.append(tuple(s.chain(clamp, tip, b.elements, section)))
+        clamps.append(clamp)
+    return tuple(body), tuple(clamps), tuple(chains)
+
+
+def _contact_points(spec: CrawlerSpec, chains):
+    """Contact nodes, their offsets and radii (mm), and each tip's points.
+
+    Order: the tips first (their states are the tips' contact states), then the other
+    nodes of each bristle; with surface points, all "+n" face points, then all "-n"."""
+    c, br = spec.contact, spec.bristles
+    n = len(chains)
+    nodes = [ch[-1] for ch in chains]
+    thick = [float(b.thickness(1.0)) for b in br]
+    normals = [b.normal() for b in br]
+    if c.nodes == "all":
+        for ch, b in zip(chains, br, strict=True):
+            nodes += ch[1:-1]
+            thick += list(b.node_thickness()[1:-1])
+            normals += [b.normal()] * (len(ch) - 2)
+    thick, normals = np.asarray(thick), np.asarray(normals)
+    if c.surface:
+        off = 0.5 * thick[:, None] * normals
+        half = len(nodes)
+        return (
+            nodes + nodes,
+            np.concatenate([off, -off]),
+            0.0,
+            tuple((i, half + i) for i in range(n)),
+        )
+    radius = 0.5 * thick if c.discs else 0.0
+    return nodes, np.zeros((len(nodes), 2)), radius, tuple((i,) for i in range(n))
+
+
+def _friction_law(spec: CrawlerSpec):
+    """Penalties sized for the weight on one bristle (or a given peak load): penetration
+    below 1 micrometre and stick drift below ``contact.stick_drift`` at that load."""
     from bristlecrawler.contact.coulomb import CoulombLaw
+
+    c = spec.contact
+    weight = (spec.body.mass + sum(b.mass for b in spec.bristles)) * spec.gravity
+    load = c.penalty_load or weight / len(spec.bristles)
+    return CoulombLaw.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift)
+
+
+def _add_contact(s, spec: CrawlerSpec, chains):
     from bristlecrawler.contact.term import SubstrateContact
 
-    b, br = sc.body, sc.bristle
-    contact = sc.contact.nodes if contact is None else contact
-    surface = sc.contact.surface if surface is None else surface
-    corners = sc.contact.corners if corners is None else corners
-    penalty_load = sc.contact.penalty_load if penalty_load is None else penalty_load
-    alpha = math.radians(br.alpha_deg)
-    pen = 1e-3
-    discs = sc.contact.discs and not surface
-    # With surface contact the tip's lower face corner touches the surface, not its axis;
-    # a disc touches it with its rim.
-    lift = 0.5 * br.thickness_tip * abs(math.sin(alpha)) if surface else 0.0
-    if discs:
-        lift = 0.5 * br.thickness_tip
-    drop = br.length * math.cos(alpha) + lift - pen
-    y_end = b.link_length + drop
-    s = fe.Structure()
-    left = s.node(0.0, y_end)
-    right = s.node(b.length, y_end)
-    s.point_mass(left, b.end_mass)
-    s.point_mass(right, b.end_mass)
-    s.rigid_link(right, left, stretch=_stretch(sc))
-    if not b.free_pitch:
-        s.fix(left, "theta")
-    section = fe.TaperedRect(
-        E=br.youngs_modulus,
-        b=br.width,
-        h0=br.thickness_clamp,
-        h1=br.thickness_tip,
-        rho=br.density,
-        nu=br.poisson_ratio,
-        shear=br.shear,
-    )
-    chains, clamps = [], []
-    for end in (left, right):
-        x0 = b.length if end == right else 0.0
-        clamp = s.node(x0, drop)
-        s.rigid_link(clamp, end)
-        tip = (x0 - br.length * math.sin(alpha), lift - pen)
-        chains.append(tuple(s.chain(clamp, tip, br.elements, section)))
-        clamps.append(clamp)
-    s.gravity(0.0, -sc.gravity)
-    # The programs take the a1 K v product only where the damping has one: 9-15 % of a
-    # Newton iteration in paired runs (fe.Structure.stiffness_damping).
-    d = sc.damping
-    s.stiffness_damping(d.kind == "stiffness" or (d.kind == "explicit" and d.a1 != 0.0))
-    n_el = br.elements
-    if contact == "tip":
-        cnodes = [chains[0][-1], chains[1][-1]]
-        frac = np.ones(2)
-    elif contact == "all":
-        # Tips first (their states are the tips' contact states), then the other nodes.
-        cnodes = [chains[0][-1], chains[1][-1], *chains[0][1:-1], *chains[1][1:-1]]
-        inner = np.arange(1, n_el) / n_el
-        frac = np.concatenate([[1.0, 1.0], inner, inner])
-    else:
-        raise InputError(f"contact must be 'tip' or 'all', got {contact!r}")
-    if surface:
-        # Points on both faces of the beam, h/2 from the axis along the section's normal;
-        # they turn with the node's rotation. Order: tips' "+n" points, the rest's "+n"
-        # points, then all "-n" points (so the first two are the tips).
-        thickness = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac
-        normal = np.array([math.cos(alpha), -math.sin(alpha)])
-        off = 0.5 * thickness[:, None] * normal[None, :]
-        offsets = np.concatenate([off, -off])
-        half = len(cnodes)
-        cnodes = cnodes + cnodes
-        tip_points = ((0, half), (1, half + 1))
-    else:
-        offsets = np.zeros((len(cnodes), 2))
-        tip_points = ((0,), (1,))
-    radius = 0.0
-    if discs:
-        radius = 0.5 * (br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac)
-    # Penalties sized for the weight on one bristle (or a given peak load): penetration
-    # below 1 micrometre and stick drift below contact.stick_drift at that load.
-    weight = (
-        2 * b.end_mass
-        + 2 * br.density * br.width * br.length * 0.5 * (br.thickness_clamp + br.thickness_tip)
-    ) * sc.gravity
-    law = CoulombLaw.for_reference_load(
-        sc.substrate.mu, load=penalty_load or weight / 2, max_stick_drift=sc.contact.stick_drift
-    )
-    X = np.asarray(s._X)  # reference coordinates (builder internal, read-only use)
-    term = SubstrateContact(tuple(int(n) for n in cnodes), active=sc.contact.active_points)
+    law = _friction_law(spec)
+    nodes, offsets, radius, tip_points = _contact_points(spec, chains)
+    X = s.coordinates
+    term = SubstrateContact(tuple(int(n) for n in nodes), active=spec.contact.active_points)
     s.add_term(
         term,
-        SubstrateContact.params(
-            X, term.nodes, sc.substrate.build(), law, radius=radius, offset=offsets
-        ),
+        SubstrateContact.params(X, term.nodes, spec.substrate, law, radius=radius, offset=offsets),
     )
-    if corners:
+    corners = None
+    if spec.contact.corners:
         from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
 
-        # The closed outline of each bristle (both faces, tip end, clamp section).
-        frac_all = np.arange(n_el + 1) / n_el
-        thick = br.thickness_clamp + (br.thickness_tip - br.thickness_clamp) * frac_all
-        normal = np.array([math.cos(alpha), -math.sin(alpha)])
-        outlines = [beam_outline(ch, thick, normal) for ch in chains]
+        outlines = [
+            beam_outline(ch, b.node_thickness(), b.normal())
+            for ch, b in zip(chains, spec.bristles, strict=True)
+        ]
         faces = tuple(o[0] for o in outlines)
-        sub = sc.substrate.build()
-        period = float(sub.profile().period)
-        span = br.length + br.thickness_clamp
-        cterm = FaceCornerContact(faces, FaceCornerContact.window_periods(span, period, margin=1.0))
-        s.add_term(cterm, FaceCornerContact.params(X, faces, [o[1] for o in outlines], sub, law))
-    model = s.build()
-    lines = [(left, right), (left, clamps[0]), (right, clamps[1])]
-    kinds = [0, 1, 1]
+        period = float(spec.substrate.profile().period)
+        span = max(b.length + b.thickness_clamp for b in spec.bristles)
+        corners = FaceCornerContact(
+            faces, FaceCornerContact.window_periods(span, period, margin=1.0)
+        )
+        s.add_term(
+            corners,
+            FaceCornerContact.params(X, faces, [o[1] for o in outlines], spec.substrate, law),
+        )
+    return term, corners, tip_points
+
+
+def _drawing(body, clamps, chains):
+    lines = [*itertools.pairwise(body)]
+    kinds = [LINE_BODY] * len(lines)
+    for node, clamp in zip(body, clamps, strict=True):
+        lines.append((node, clamp))
+        kinds.append(LINE_LINK)
     for ch in chains:
-        for a_, b_ in itertools.pairwise(ch):
-            lines.append((a_, b_))
-            kinds.append(2)
-    subtree = (right, clamps[1], *chains[1][1:])
+        for pair in itertools.pairwise(ch):
+            lines.append(pair)
+            kinds.append(LINE_BRISTLE)
+    return np.asarray(lines), np.asarray(kinds)
+
+
+def build(spec: CrawlerSpec) -> CrawlerModel:
+    """Check ``spec`` (one-line :class:`InputError`) and build its FE model."""
+    from bristlecrawler import fe
+
+    spec.check()
+    s = fe.Structure()
+    body, clamps, chains = _body_and_bristles(s, spec)
+    s.gravity(0.0, -spec.gravity)
+    # The programs take the a1 K v product only where the damping has one: 9-15 % of a
+    # Newton iteration (fe.Structure.stiffness_damping).
+    s.stiffness_damping(spec.damping.stiffness_proportional)
+    term, corners, tip_points = _add_contact(s, spec, chains)
+    model = s.build()
+    subtrees = tuple(
+        tuple(n for j in range(i + 1, len(body)) for n in (body[j], clamps[j], *chains[j][1:]))
+        for i in range(len(body) - 1)
+    )
+    lines, kinds = _drawing(body, clamps, chains)
     return CrawlerModel(
         model=model,
-        scenario=sc,
-        left=left,
-        right=right,
-        clamps=tuple(clamps),
-        bristles=tuple(chains),
-        contact_nodes=term.nodes,
-        contact_term_index=0,
+        spec=spec,
+        body=body,
+        clamps=clamps,
+        bristles=chains,
+        contact=term,
+        corners=corners,
         tip_points=tip_points,
-        right_subtree=subtree,
-        lines=np.asarray(lines),
-        line_kind=np.asarray(kinds),
-        t_start=0.0,
+        subtrees=subtrees,
+        lines=lines,
+        line_kind=kinds,
     )

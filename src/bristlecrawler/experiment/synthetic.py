@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bristlecrawler.actuators.sma import SMAActuator, run_sma
 from bristlecrawler.errors import InputError
 from bristlecrawler.experiment.recording import DEFAULT_RATE_HZ, Recording
-from bristlecrawler.experiment.sma import SMAActuator, run_sma
 from bristlecrawler.reduced import ReducedCrawler, SampledStroke, Sin2Stroke, solve
 
 

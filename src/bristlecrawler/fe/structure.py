@@ -83,6 +83,11 @@ class Structure:
         self._X.append((float(x), float(y)))
         return len(self._X) - 1
 
+    @property
+    def coordinates(self) -> np.ndarray:
+        """Reference coordinates of the nodes so far, mm, (n_nodes, 2) (a copy)."""
+        return np.asarray(self._X, dtype=float).reshape(-1, 2)
+
     def _check_node(self, n: int, what: str) -> None:
         if not (0 <= int(n) < len(self._X)):
             raise InputError(f"{what}: node {n} does not exist")

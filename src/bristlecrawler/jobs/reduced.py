@@ -34,7 +34,7 @@ def build(config: ReducedConfig):
         stroke = read_history_csv(config.history)
         crawler.check_stroke(stroke.s_max)
     elif config.actuator == "sma":
-        from bristlecrawler.experiment.sma import SMAActuator, run_sma
+        from bristlecrawler.actuators.sma import SMAActuator, run_sma
 
         stroke = run_sma(SMAActuator(s_target=config.s_max), config.cycles).stroke()
         crawler.check_stroke(stroke.s_max)

@@ -19,8 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from bristlecrawler.crawler.history import STRAIN_LIMIT, CrawlerHistory
-from bristlecrawler.errors import InputError
+from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.scenario.schema import Scenario
 
 
@@ -31,43 +30,6 @@ class SimulationRun:
     history: CrawlerHistory
     summary: dict[str, Any]
     out_dir: Path | None
-
-
-def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
-    """The scenario with ``section.key=value`` assignments (TOML values) applied and
-    re-validated; a bad assignment raises a one-line InputError."""
-    import tomllib
-
-    values = {}
-    for item in assignments:
-        key, sep, raw = item.partition("=")
-        if not sep or not key.strip():
-            raise InputError(f"--set expects section.key=value, got {item!r}")
-        try:
-            value = tomllib.loads(f"v = {raw.strip()}")["v"]
-        except tomllib.TOMLDecodeError:
-            value = raw.strip()  # bare words (kind = grooves) are strings
-        values[key.strip()] = value
-    return apply_values(sc, values)
-
-
-def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
-    """The scenario with ``{"section.key": value}`` set (Python values, e.g. a path as
-    it is) and re-validated; an unknown key or a bad value raises a one-line InputError."""
-    from bristlecrawler.scenario.load import scenario_from_dict
-
-    data = sc.model_dump()
-    for key, value in values.items():
-        *path, last = key.split(".")
-        node = data
-        for part in path:
-            if not isinstance(node.get(part), dict):
-                raise InputError(f"--set {key}: unknown section {part!r}")
-            node = node[part]
-        if last not in node:
-            raise InputError(f"--set {key}: unknown parameter {last!r}")
-        node[last] = value
-    return scenario_from_dict(data, "scenario (with --set)")
 
 
 def summary_json(summary: dict[str, Any], indent: int | None = None) -> str:
@@ -84,40 +46,9 @@ def summary_json(summary: dict[str, Any], indent: int | None = None) -> str:
     return json.dumps({k: clean(v) for k, v in summary.items()}, indent=indent, allow_nan=False)
 
 
-def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
-    """Summary numbers (units in the key names)."""
-    adv = h.advance_per_cycle()
-    work = h.connector_work
-    b = h.cycle_bounds()
-    st = h.stats
-    peak = h.strain_peak()
-    warnings = []
-    if peak is not None and peak.strain > STRAIN_LIMIT:
-        warnings.append(peak.message())
-    return {
-        "scenario": sc.name,
-        "net_advance_mm": h.net_advance,
-        "advance_per_cycle_mm": adv.tolist(),
-        "work_mJ": float(work[-1]),
-        "work_per_cycle_mJ": np.diff(work[b]).tolist(),
-        "mean_abs_connector_force_N": float(
-            np.trapezoid(np.abs(h.connector_force), h.t) / max(h.t[-1] - h.t[0], 1e-300)
-        ),
-        "max_abs_connector_force_N": float(np.max(np.abs(h.connector_force))),
-        "energy_balance_rel_error": h.energy_balance_rel_error(),
-        "friction_dissipation_mJ": float(h.energies.get("friction", [0.0])[-1]),
-        "damping_dissipation_mJ": float(h.energies.get("damping", [0.0])[-1]),
-        "wall_time_s": float(st.get("wall_time_s", float("nan"))),
-        "compile_time_s": float(st.get("compile_time_s", float("nan"))),
-        "stroke_wall_time_s": float(st.get("stroke_wall_time_s", float("nan"))),
-        "steps": int(st.get("steps", h.t.size - 1)),
-        "newton_iterations": int(st.get("newton_iterations", 0)),
-        "rejected_steps": int(st.get("rejected_steps", 0)),
-        "first_frequency_hz": float(st.get("first_frequency_hz", float("nan"))),
-        "rayleigh_a0_per_s": float(st.get("rayleigh_a0", float("nan"))),
-        "max_bristle_strain": float("nan") if peak is None else peak.strain,
-        "warnings": warnings,
-    }
+def summarize(h: CrawlerHistory, sc: Scenario | None = None) -> dict[str, Any]:
+    """Summary numbers (units in the key names): :meth:`CrawlerHistory.summary`."""
+    return h.summary()
 
 
 def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:
@@ -130,6 +61,21 @@ def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:
     return np.unique(idx)
 
 
+def solve(spec, progress: bool | None = None) -> CrawlerHistory:
+    """Build and run ``spec`` with a progress bar on stderr (None: when it is a terminal)."""
+    from bristlecrawler.crawler import build, run
+    from bristlecrawler.viz.progress import sim_progress
+
+    crawler = build(spec)
+    t_end = spec.actuation.settle_time + spec.actuation.stroke_duration(spec.segments)
+    with sim_progress(t_end, "crawler", progress) as bar:
+
+        def show(p):
+            bar.update(p.t, stage=p.stage, steps=p.steps, iters=p.iterations)
+
+        return run(crawler, on_progress=show)
+
+
 def run_simulation(
     sc: Scenario,
     out: str | Path | None = None,
@@ -138,20 +84,18 @@ def run_simulation(
     command: str = "",
 ) -> SimulationRun:
     """Run scenario ``sc``; with ``write``, put the results in ``out`` (see the module)."""
-    from bristlecrawler.crawler import run as crawler_run
-    from bristlecrawler.crawler.model import stroke_duration
     from bristlecrawler.io.runs import check_out_dir
+    from bristlecrawler.scenario.convert import to_spec
 
-    stroke_duration(sc)  # reads and checks a history file before any work
+    spec = to_spec(sc)  # reads and checks a history file, checks the design: before any work
     if write:
         check_out_dir(out)
-    h = crawler_run.simulate_crawler(sc, crawler_run.RunOptions(progress=progress))
-    summary = summarize(h, sc)
+    h = solve(spec, progress)
+    summary = h.summary()
     if not write:
         return SimulationRun(h, summary, None)
 
     from bristlecrawler.io.atomic import atomic_write_text
-    from bristlecrawler.io.crawler_dataset import crawler_dataset
     from bristlecrawler.io.netcdf import write_netcdf
     from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
 
@@ -160,7 +104,7 @@ def run_simulation(
     info = write_run_metadata(out_dir, config, command)
     keep = frame_subset(h, sc.output.frames_per_cycle)
     framed = dataclasses.replace(h, frame_t=h.frame_t[keep], frame_nodes=h.frame_nodes[keep])
-    ds = crawler_dataset(framed, attrs=info.as_dict() | {"scenario": json.dumps(config)})
+    ds = framed.to_dataset(attrs=info.as_dict() | {"scenario": json.dumps(config)})
     write_netcdf(ds, out_dir / "crawler.nc")
     if sc.output.vtk:
         from bristlecrawler.io.vtk import write_vtk_series

@@ -8,10 +8,10 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from bristlecrawler.contact.substrate_config import parse_substrate
 from bristlecrawler.errors import InputError
 from bristlecrawler.io.config import parse_model
 from bristlecrawler.scenario.schema import Scenario
+from bristlecrawler.scenario.substrate import parse_substrate
 
 
 def available_scenarios() -> list[str]:
@@ -55,3 +55,38 @@ def load_scenario(name_or_path: str | os.PathLike) -> Scenario:
         )
     resource = resources.files("bristlecrawler") / "scenarios" / f"{text}.toml"
     return scenario_from_dict(tomllib.loads(resource.read_text(encoding="utf-8")), text)
+
+
+def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
+    """The scenario with ``section.key=value`` assignments (TOML values) applied and
+    re-validated; a bad assignment raises a one-line InputError."""
+    import tomllib
+
+    values = {}
+    for item in assignments:
+        key, sep, raw = item.partition("=")
+        if not sep or not key.strip():
+            raise InputError(f"--set expects section.key=value, got {item!r}")
+        try:
+            value = tomllib.loads(f"v = {raw.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = raw.strip()  # bare words (kind = grooves) are strings
+        values[key.strip()] = value
+    return apply_values(sc, values)
+
+
+def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
+    """The scenario with ``{"section.key": value}`` set (Python values, e.g. a path as
+    it is) and re-validated; an unknown key or a bad value raises a one-line InputError."""
+    data = sc.model_dump()
+    for key, value in values.items():
+        *path, last = key.split(".")
+        node = data
+        for part in path:
+            if not isinstance(node.get(part), dict):
+                raise InputError(f"--set {key}: unknown section {part!r}")
+            node = node[part]
+        if last not in node:
+            raise InputError(f"--set {key}: unknown parameter {last!r}")
+        node[last] = value
+    return scenario_from_dict(data, "scenario (with --set)")

@@ -1,4 +1,8 @@
-"""The scenario schema (paper Section 3 defaults). Units: mm, N, s, t, MPa."""
+"""The scenario schema: the TOML edge of :class:`bristlecrawler.crawler.CrawlerSpec`.
+
+Every default is read from the spec's dataclasses, so the schema and the Python API cannot
+disagree. Units: mm, N, s, t, MPa.
+"""
 
 from __future__ import annotations
 
@@ -6,8 +10,12 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from bristlecrawler.contact.substrate_config import GroovesConfig, SubstrateConfig
+from bristlecrawler.crawler.spec import Actuation, Body, Bristle, Contact, Damping, Solver
 from bristlecrawler.io.config import StrictSection
+from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
+
+_BODY, _BRISTLE, _CONTACT = Body(), Bristle(), Contact()
+_DAMPING, _ACTUATION, _SOLVER = Damping(), Actuation(), Solver()
 
 
 class _Section(StrictSection):
@@ -21,58 +29,86 @@ def _pos(default: float, text: str):
 class BodyConfig(_Section):
     """Rigid body: a bar whose length follows the actuator, with point masses at its ends."""
 
-    length: float = _pos(100.0, "rest length of the connector between the two ends, mm")
-    end_mass: float = _pos(2.75e-5, "point mass at each end, t (27.5 g)")
+    length: float = _pos(
+        _BODY.length,
+        "rest distance between the first and the last bristle (the two ends), mm; the "
+        "bristles are spread evenly over it",
+    )
+    mass: float = _pos(
+        _BODY.mass,
+        "total mass of the body, t, shared equally by one point mass above each bristle "
+        "(the paper: 55 g, 27.5 g at each end)",
+    )
     link_length: float = _pos(
-        10.0,
+        _BODY.link_length,
         "rigid vertical links from each end down to a bristle clamp, mm (not given in "
         "the paper; a studied parameter)",
     )
-    free_pitch: bool = Field(True, description="body free to pitch (else kept level)")
+    free_pitch: bool = Field(_BODY.free_pitch, description="body free to pitch (else kept level)")
 
 
 class BristleConfig(_Section):
     """Tapered rectangular silicone bristle (Shore A 40), clamped at alpha from the vertical."""
 
-    length: float = _pos(5.0, "bristle length, mm")
-    width: float = _pos(30.0, "out-of-plane width b, mm")
-    thickness_clamp: float = _pos(3.0, "thickness at the clamp h0, mm")
-    thickness_tip: float = _pos(0.5, "thickness at the tip h1, mm")
-    youngs_modulus: float = _pos(1.1, "Young's modulus E, MPa")
-    poisson_ratio: float = Field(0.45, gt=-1.0, lt=0.5, description="Poisson's ratio, -")
-    density: float = _pos(1.3e-9, "mass density, t/mm^3 (1.3 g/cm^3)")
+    length: float = _pos(_BRISTLE.length, "bristle length, mm")
+    width: float = _pos(_BRISTLE.width, "out-of-plane width b, mm")
+    thickness_clamp: float = _pos(_BRISTLE.thickness_clamp, "thickness at the clamp h0, mm")
+    thickness_tip: float = _pos(_BRISTLE.thickness_tip, "thickness at the tip h1, mm")
+    youngs_modulus: float = _pos(_BRISTLE.youngs_modulus, "Young's modulus E, MPa")
+    poisson_ratio: float = Field(
+        _BRISTLE.poisson_ratio, gt=-1.0, lt=0.5, description="Poisson's ratio, -"
+    )
+    density: float = _pos(_BRISTLE.density, "mass density, t/mm^3 (1.3 g/cm^3)")
     alpha_deg: float = Field(
-        45.0,
+        _BRISTLE.alpha_deg,
         gt=-80.0,
         lt=80.0,
         allow_inf_nan=False,
         description="inclination from the vertical, degrees; tips trail (positive: sliding "
         "along the grain is rightward)",
     )
-    elements: int = Field(20, ge=2, le=2000, description="beam elements per bristle")
-    shear: bool = Field(True, description="shear-deformable (Timoshenko-like) beam")
+    elements: int = Field(_BRISTLE.elements, ge=2, le=2000, description="beam elements per bristle")
+    count: int = Field(
+        2,
+        ge=2,
+        le=50,
+        description="number of bristles, spread evenly over the body length (one body "
+        "segment, with its own actuator, between neighbours)",
+    )
+    shear: bool = Field(_BRISTLE.shear, description="shear-deformable (Timoshenko-like) beam")
 
 
 class DampingConfig(_Section):
     """Rayleigh damping: by default mass-proportional with a ratio at the first resonance."""
 
     ratio: float = Field(
-        0.15, ge=0.0, lt=1.0, description="damping ratio at the reference frequency, -"
+        _DAMPING.ratio, ge=0.0, lt=1.0, description="damping ratio at the reference frequency, -"
     )
-    kind: Literal["mass", "stiffness", "explicit"] = "mass"
-    a0: float = Field(0.0, ge=0.0, description="explicit mass coefficient, 1/s")
-    a1: float = Field(0.0, ge=0.0, description="explicit stiffness coefficient, s")
+    kind: Literal["mass", "stiffness", "explicit"] = _DAMPING.kind
+    a0: float = Field(_DAMPING.a0, ge=0.0, description="explicit mass coefficient, 1/s")
+    a1: float = Field(_DAMPING.a1, ge=0.0, description="explicit stiffness coefficient, s")
 
 
 class ActuationConfig(_Section):
     """Step 2: the prescribed shortening of the body."""
 
     kind: Literal["sin2", "history", "sma"] = "sin2"
-    s_max: float = _pos(20.0, "peak shortening s~, mm")
-    period: float = _pos(20.0, "cycle period T, s")
-    cycles: int = Field(5, ge=1, le=10_000, description="number of cycles")
+    s_max: float = _pos(_ACTUATION.s_max, "peak shortening s~ of each body segment, mm")
+    period: float = _pos(_ACTUATION.period, "cycle period T, s")
+    cycles: int = Field(_ACTUATION.cycles, ge=1, le=10_000, description="number of cycles")
     history: str | None = Field(None, description="CSV with columns t (s), s (mm)")
-    settle_time: float = _pos(0.5, "step 1 (gravity) duration, s")
+    settle_time: float = _pos(_ACTUATION.settle_time, "step 1 (gravity) duration, s")
+    gait: Literal["breathing", "peristaltic"] = Field(
+        _ACTUATION.gait,
+        description="breathing: every segment follows s(t) together; peristaltic: segment j "
+        "follows s(t - j lag) (with more than two bristles)",
+    )
+    lag: float = Field(
+        _ACTUATION.lag,
+        ge=0.0,
+        allow_inf_nan=False,
+        description="delay between neighbouring segments of a peristaltic gait, s",
+    )
 
     @model_validator(mode="after")
     def _history(self) -> ActuationConfig:
@@ -84,12 +120,12 @@ class ActuationConfig(_Section):
 class SolverConfig(_Section):
     """Implicit dynamics with an adaptive step."""
 
-    hht_alpha: float = Field(-0.05, ge=-1.0 / 3.0, le=0.0, description="HHT alpha, -")
-    dt_max: float = _pos(0.05, "largest time step, s")
-    dt_min: float = _pos(1e-6, "smallest time step before giving up, s")
-    tolerance: float = _pos(1e-8, "Newton tolerance on the relative residual, -")
+    hht_alpha: float = Field(_SOLVER.hht_alpha, ge=-1.0 / 3.0, le=0.0, description="HHT alpha, -")
+    dt_max: float = _pos(_SOLVER.dt_max, "largest time step, s")
+    dt_min: float = _pos(_SOLVER.dt_min, "smallest time step before giving up, s")
+    tolerance: float = _pos(_SOLVER.tolerance, "Newton tolerance on the relative residual, -")
     max_iterations: int = Field(
-        25,
+        _SOLVER.max_iterations,
         ge=2,
         le=1000,
         description="Newton iterations per step attempt before the step is cut (12 saves "
@@ -97,14 +133,14 @@ class SolverConfig(_Section):
         "docs/fe-crawler-investigation.md)",
     )
     stall_iterations: int = Field(
-        0,
+        _SOLVER.stall_iterations,
         ge=0,
         le=1000,
         description="cut a step whose Newton goes this many iterations without halving its "
         "residual (0: off, only max_iterations)",
     )
     freeze_iterations: int = Field(
-        0,
+        _SOLVER.freeze_iterations,
         ge=0,
         le=999,
         description="Newton iterations of each step that keep every closed contact point in "
@@ -113,17 +149,17 @@ class SolverConfig(_Section):
         "(0: off). Must be below max_iterations",
     )
     line_search: Literal["growth", "monotone"] = Field(
-        "monotone",
+        _SOLVER.line_search,
         description="Newton line search: halve a correction until the residual decreases "
         "('monotone'), or only when it blows up ('growth')",
     )
     predictor: Literal["tangent", "constant"] = Field(
-        "tangent",
+        _SOLVER.predictor,
         description="start of each step's Newton: the residual linearised in the stroke's "
         "increment ('tangent'), or the last converged state ('constant')",
     )
     energy_tol: float = Field(
-        1e-2,
+        _SOLVER.energy_tol,
         gt=0.0,
         allow_inf_nan=True,
         description="largest energy one step may create, mJ: the changes of elastic, "
@@ -131,7 +167,7 @@ class SolverConfig(_Section):
         "step minus the connector work; a step above it is cut (inf: no control)",
     )
     energy_loss_tol: float = Field(
-        1e-2,
+        _SOLVER.energy_loss_tol,
         gt=0.0,
         allow_inf_nan=True,
         description="largest energy one step may lose, mJ (the same balance, the other "
@@ -141,7 +177,7 @@ class SolverConfig(_Section):
         "`paper-vertical` flip over unresolved (docs/fe-crawler-investigation.md)",
     )
     max_correction: float = Field(
-        0.05,
+        _SOLVER.max_correction,
         gt=0.0,
         allow_inf_nan=True,
         description="largest nodal translation of a Newton correction's first trial, mm: "
@@ -165,34 +201,34 @@ class ContactConfig(_Section):
     """Contact of the bristles with the substrate."""
 
     nodes: Literal["tip", "all"] = Field(
-        "all", description="contact nodes: the bristle tips only, or every bristle node"
+        _CONTACT.nodes, description="contact nodes: the bristle tips only, or every bristle node"
     )
     surface: bool = Field(
-        True,
+        _CONTACT.surface,
         description="contact points on both faces of the beam (h/2 from the axis, turning "
         "with the section) rather than on its axis",
     )
     discs: bool = Field(
-        False,
+        _CONTACT.discs,
         description="with surface = false: each axis contact point is a disc of radius h/2 "
         "(the local half thickness), so the faces rather than the axis touch flat parts of "
         "the substrate; friction acts on the node's translation (no moment)",
     )
     corners: bool = Field(
-        True,
+        _CONTACT.corners,
         description="corner-to-face contact: the substrate's convex corners (land edges) "
         "against both faces of every bristle element, so a sharp corner cannot pass "
         "between contact points",
     )
     penalty_load: float | None = Field(
-        None,
+        _CONTACT.penalty_load,
         gt=0.0,
         allow_inf_nan=False,
         description="load (N) at which penetration stays below 1e-3 mm and the stick drift "
         "below contact.stick_drift; default: the weight on one bristle",
     )
     stick_drift: float = Field(
-        1e-4,
+        _CONTACT.stick_drift,
         gt=0.0,
         allow_inf_nan=False,
         description="elastic tangential displacement in stick at the friction limit of the "
@@ -204,7 +240,7 @@ class ContactConfig(_Section):
         "(docs/fe-crawler-investigation.md)",
     )
     active_points: int | None = Field(
-        16,
+        _CONTACT.active_points,
         ge=1,
         description="broad phase: contact points evaluated per Newton iteration, the ones "
         "reaching lowest (the corner term is separate). Exact while at most this many "
@@ -212,7 +248,7 @@ class ContactConfig(_Section):
         "more do stops with an error naming this parameter. null: every point",
     )
     max_penetration: float = Field(
-        0.025,
+        _CONTACT.max_penetration,
         gt=0.0,
         allow_inf_nan=True,
         description="a time step that converges with a contact penetration deeper than "

@@ -1,4 +1,8 @@
-"""The finite-element crawler history as an xarray Dataset (NetCDF), units in attributes."""
+"""The finite-element crawler history as an xarray Dataset (NetCDF), units in attributes.
+
+Dimensions: time (every recorded step), bristle, segment (bristles - 1), xy, frame, node,
+line, substrate_point. xarray is imported when a dataset is made.
+"""
 
 from __future__ import annotations
 
@@ -23,24 +27,36 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
     resid = h.energy_balance_residual()
     data = {
         # + 0.0: a shortening of -0.0 (the first record) is written as 0.0
-        "s": ("time", h.s + 0.0, {"units": "mm", "long_name": "shortening s"}),
+        "s": (
+            "time",
+            h.s + 0.0,
+            {"units": "mm", "long_name": "shortening s (of the first segment)"},
+        ),
         "delta": ("time", h.delta, {"units": "mm", "long_name": "right-end displacement Delta"}),
-        "left": (("time", "xy"), h.left, {"units": "mm", "long_name": "left end position"}),
-        "right": (("time", "xy"), h.right, {"units": "mm", "long_name": "right end position"}),
+        "left": (
+            ("time", "xy"),
+            h.left,
+            {"units": "mm", "long_name": "left end (first body node)"},
+        ),
+        "right": (
+            ("time", "xy"),
+            h.right,
+            {"units": "mm", "long_name": "right end (last body node)"},
+        ),
         "connector_force": (
             "time",
             h.connector_force,
-            {"units": "N", "long_name": "connector force F_c (pulling)"},
+            {"units": "N", "long_name": "connector force F_c of the first segment (pulling)"},
         ),
         "connector_work": (
             "time",
             h.connector_work,
-            {"units": "mJ", "long_name": "connector work W_c = int F_c ds"},
+            {"units": "mJ", "long_name": "connector work W_c = sum over segments of int F_c ds"},
         ),
         "tip_position": (
             ("time", "bristle", "xy"),
             h.tip_position,
-            {"units": "mm", "long_name": "bristle tip position (left, right)"},
+            {"units": "mm", "long_name": "bristle tip position (bristles from the left)"},
         ),
         "tip_state": (
             ("time", "bristle"),
@@ -84,6 +100,17 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
             {"units": "mm", "long_name": "substrate surface (drawing, fillets left out)"},
         ),
     }
+    if h.segment_shortening is not None:
+        data["segment_shortening"] = (
+            ("time", "segment"),
+            h.segment_shortening + 0.0,
+            {"units": "mm", "long_name": "shortening of each body segment"},
+        )
+        data["segment_force"] = (
+            ("time", "segment"),
+            h.segment_force,
+            {"units": "N", "long_name": "connector force of each segment's actuator (pulling)"},
+        )
     if h.node_thickness is not None:
         data["node_thickness"] = (
             "node",
@@ -100,7 +127,11 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
             "frame_time": ("frame", h.frame_t, {"units": "s"}),
             "xy": ["x", "y"],
         },
-        attrs={"model": "bristlecrawler finite-element crawler", "units": "mm, N, s, t, mJ"},
+        attrs={
+            "model": "bristlecrawler finite-element crawler",
+            "units": "mm, N, s, t, mJ",
+            "name": h.name,
+        },
     )
     extra = dict(h.stats) | (attrs or {})
     ds.attrs.update(

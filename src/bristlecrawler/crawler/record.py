@@ -1,0 +1,143 @@
+"""What a run records after every accepted step, and the energy check built on it.
+
+The record of a state (:func:`observer`) holds the time, the node positions, each
+segment's connector force and shortening, the energies and each tip's contact state.
+
+Connector force: the constraint force that segment j's actuated link transmits to the
+subtree beyond it (the body nodes to its right, their links and bristles),
+``lambda_j = sum (M a + C v + f_int + f_c - f_ext)`` over that subtree; F_j is its
+component along the segment, positive when pulling the ends together, and the connector
+work is ``W_c = sum_j int F_j ds_j``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+#: Columns of a record's ``energies``: elastic, kinetic, potential energy of the loads,
+#: friction dissipation, contact penalty energy (mJ), damping power (mW).
+ENERGY_COLUMNS = ("elastic", "kinetic", "potential", "friction", "penalty", "damping_power")
+
+
+@dataclass(frozen=True)
+class EnergyCheck:
+    """Energy-balance error of a step relative to its bounds, from two consecutive
+    records. The error is ``dW_c - d(elastic + penalty + kinetic + potential + friction)
+    - dD_damp`` with ``dW_c = sum_j (F0_j + F1_j)/2 (s1_j - s0_j)`` and ``dD_damp = (P0 +
+    P1)/2 dt``, the rules the recorded series use (:func:`energy_series`), so the run's
+    balance residual is the sum of these errors. Negative: energy created, bounded by
+    ``tol`` (mJ); positive: energy lost, bounded by ``loss_tol`` (mJ, default no bound).
+
+    Why: energy from nothing is a wrong root (a node turned by 2 pi, a tip pushed through
+    a land edge); energy lost is what a large implicit step across a snap does (a tip
+    dropping into a groove): it jumps to the new equilibrium and the integrator dissipates
+    part of the released elastic energy, like an inelastic impact. Bounding the loss makes
+    the steps resolve the snaps. Hashable, for the drivers' caches."""
+
+    tol: float
+    loss_tol: float = math.inf
+
+    @staticmethod
+    def error(prev, new):
+        """Signed energy-balance error of the step from ``prev`` to ``new``, mJ."""
+        e0, e1 = prev["energies"], new["energies"]
+        work = jnp.sum(0.5 * (prev["fc"] + new["fc"]) * (new["stretch"] - prev["stretch"]))
+        damp = 0.5 * (e0[5] + e1[5]) * (new["t"] - prev["t"])
+        return work - jnp.sum(e1[:5] - e0[:5]) - damp
+
+    def __call__(self, prev, new):
+        e = self.error(prev, new)
+        # e / inf is 0 for a finite loss; a non-finite error gives NaN, which is refused.
+        return jnp.maximum(-e / self.tol, e / self.loss_tol)
+
+
+def observer(cm):
+    """The record of a state, jitted once per model structure: a run of a structure
+    already run in this process (a benchmark's second run, a sweep's next design) traces
+    and loads nothing again."""
+    m = cm.model
+    index = m.terms.index(cm.contact)
+    return _make_observer(m.topology, m.terms, index, cm.body, cm.subtrees, cm.tip_points)
+
+
+@functools.lru_cache(maxsize=16)
+def _make_observer(topo, terms, contact_index, body, subtrees, tip_points):
+    from bristlecrawler.fe import assembly
+
+    subs = [np.asarray(s) for s in subtrees]
+    body = np.asarray(body)
+
+    @jax.jit
+    def observe(state, params):
+        X = params.X
+        # Every contact term (points, and corners against faces when present) shares the law.
+        law = params.extra[contact_index].law
+        u, v, a, t = state.u, state.v, state.a, state.t
+        f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
+        f_terms = assembly.terms_residual(u, v, t, state.history, params, terms)
+        f_ext = assembly.external_force(t, 1.0, params, topo)
+        full = assembly.mass_times(a, params, topo) + damp + f_int + f_terms - f_ext
+        x = X[:, :2] + u[:, :2]
+        fc, stretch = [], []
+        for j, sub in enumerate(subs):
+            lam = jnp.sum(full[sub, :2], axis=0)
+            e = x[body[j + 1]] - x[body[j]]
+            e = e / jnp.linalg.norm(e)
+            fc.append(-jnp.dot(lam, e))
+            rest = jnp.linalg.norm(X[body[j + 1], :2] - X[body[j], :2])
+            stretch.append(-(jnp.linalg.norm(x[body[j + 1]] - x[body[j]]) - rest))
+        h = state.history[contact_index]
+        hist = state.history
+        pen = sum(jnp.sum(0.5 * hk.p_n**2 / law.k_n + 0.5 * hk.f_t**2 / law.k_t) for hk in hist)
+        energies = jnp.stack(
+            [
+                assembly.internal_energy(u, params, topo),
+                assembly.kinetic_energy(v, params, topo),
+                -jnp.sum(f_ext * u),
+                sum(jnp.sum(hk.dissipation) for hk in hist),
+                pen,
+                jnp.sum(v * damp),
+            ]
+        )
+        return {
+            "t": t,
+            "x": x,
+            "fc": jnp.stack(fc),
+            "energies": energies,
+            # A tip slips if one of its points slips, sticks if one sticks, else is open.
+            "tip_state": jnp.stack([jnp.max(h.state[np.asarray(ix)]) for ix in tip_points]),
+            "stretch": jnp.stack(stretch),
+        }
+
+    return observe
+
+
+def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
+    """Energy series (mJ, zero at the first record) from the records: times ``t`` (s),
+    segment forces ``fc`` (N, (M,) or (M, S)), shortenings ``s`` (mm, same shape) and
+    ``en`` (M, 6) in the order of :data:`ENERGY_COLUMNS`. The penalty energy is part of the
+    elastic energy; the connector work and the damping dissipation are trapezoidal sums,
+    the rules :class:`EnergyCheck` applies to each step."""
+    t, fc, s, en = (np.asarray(a, float) for a in (t, fc, s, en))
+    if fc.ndim == 1:
+        fc, s = fc[:, None], s[:, None]
+    steps = np.sum(0.5 * (fc[1:] + fc[:-1]) * np.diff(s, axis=0), axis=1)
+    work = np.concatenate([[0.0], np.cumsum(steps)])
+    damp_power = en[:, 5]
+    damping_diss = np.concatenate(
+        [[0.0], np.cumsum(0.5 * (damp_power[1:] + damp_power[:-1]) * np.diff(t))]
+    )
+    return {
+        "elastic": en[:, 0] - en[0, 0] + en[:, 4] - en[0, 4],
+        "kinetic": en[:, 1] - en[0, 1],
+        "potential": en[:, 2] - en[0, 2],
+        "friction": en[:, 3] - en[0, 3],
+        "damping": damping_diss,
+        "external": work,
+    }

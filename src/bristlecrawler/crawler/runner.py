@@ -1,0 +1,380 @@
+"""Running a built crawler as a sequence of stages (paper Section 3's analysis steps).
+
+The default stages are the paper's: :class:`Settle` (step 1, gravity, with provisional
+mass-proportional damping), :class:`ModalDamping` (the first resonant frequency of the
+settled crawler, contact tangent included, and the Rayleigh damping set to the ratio there)
+and :class:`Stroke` (step 2, the prescribed shortening, HHT-alpha with adaptive steps).
+Every accepted step of the stroke is recorded (:mod:`.record`) and the run returns a
+:class:`CrawlerHistory`. Progress goes to a callback, so a script passes nothing, the CLI
+a progress bar and a sweep worker its own.
+
+Step control: a step is cut when Newton fails, when a node turns too far or a contact
+point goes too deep (:class:`fe.Integrator`), and when the step's energy balance
+(:class:`EnergyCheck`) shows energy created beyond ``solver.energy_tol`` or lost beyond
+``solver.energy_loss_tol``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.crawler.history import CrawlerHistory
+from bristlecrawler.crawler.model import CrawlerModel, build
+from bristlecrawler.crawler.record import EnergyCheck, energy_series, observer
+from bristlecrawler.crawler.spec import CrawlerSpec
+from bristlecrawler.errors import InputError, SolverError
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How a run is driven (what is not part of the design).
+
+    Attributes:
+        dt0: first time step, s.
+        settle_omega: first-frequency estimate for the settle's provisional damping, rad/s
+            (replaced by the modal analysis after it).
+        capacity: steps per compiled chunk.
+        driver: "host" (:func:`fe.make_host_driver`, the loop in Python), "compiled"
+            (:func:`fe.make_driver`, one XLA loop) or "auto" (host on a CPU, compiled
+            elsewhere: on a CPU both take the same time per run, but the compiled loop
+            takes longer to compile and to load from the cache).
+    """
+
+    dt0: float = 1e-3
+    settle_omega: float = 200.0
+    capacity: int = 512
+    driver: str = "auto"
+
+    def __post_init__(self) -> None:
+        if self.driver not in ("auto", "host", "compiled"):
+            raise InputError(f"driver must be 'auto', 'host' or 'compiled', got {self.driver!r}")
+
+
+@dataclass(frozen=True)
+class Progress:
+    """What a progress callback gets: the stage, the simulated time ``t`` out of ``t_end``
+    (s, from the start of the run), accepted steps and Newton iterations so far."""
+
+    stage: str
+    t: float
+    t_end: float
+    steps: int
+    iterations: int
+
+
+class Stage(Protocol):
+    """A stage of a run: ``span(session)`` simulated seconds it adds (for progress), and
+    ``__call__(session)`` does its work on the session's state."""
+
+    name: str
+
+    def span(self, session: Session) -> float: ...
+
+    def __call__(self, session: Session) -> None: ...
+
+
+class _Failed(Exception):
+    def __init__(self, msg, carry):
+        super().__init__(msg)
+        self.carry = carry
+
+
+@dataclass
+class Session:
+    """The state a run's stages share: the crawler, its current FE model (with the
+    damping in force), dynamic state, step size, records and counters."""
+
+    crawler: CrawlerModel
+    options: RunOptions
+    on_progress: Callable[[Progress], None] | None
+    t_end: float
+    model: object = None
+    state: object = None
+    dt: float = 0.0
+    damping: object = None
+    omega1: float = math.nan
+    records: list = field(default_factory=list)
+    iterations: int = 0
+    rejected: int = 0
+    stats: dict = field(default_factory=dict)
+    stage: str = ""
+
+    @property
+    def spec(self) -> CrawlerSpec:
+        return self.crawler.spec
+
+    @property
+    def host(self) -> bool:
+        o = self.options.driver
+        return o == "host" or (o == "auto" and jax.default_backend() == "cpu")
+
+    def report(self, stage: str | None = None) -> None:
+        if stage is not None:
+            self.stage = stage
+        if self.on_progress is not None:
+            t = float(self.state.t) if self.state is not None else 0.0
+            self.on_progress(
+                Progress(self.stage, t, self.t_end, max(len(self.records) - 1, 0), self.iterations)
+            )
+
+    def driver(self, check: bool):
+        """The adaptive driver of this crawler (cached per structure and options)."""
+        from bristlecrawler import fe
+
+        sv = self.spec.solver
+        ig = sv.integrator(self.spec.contact.max_penetration)
+        tols = (sv.energy_tol, sv.energy_loss_tol)
+        energy = EnergyCheck(*tols) if check and any(map(math.isfinite, tols)) else None
+        make = fe.make_host_driver if self.host else fe.make_driver
+        m = self.crawler.model
+        return make(
+            m.topology,
+            m.terms,
+            ig,
+            observer(self.crawler),
+            self.options.capacity,
+            sv.grow,
+            sv.easy_iterations,
+            energy,
+        )
+
+    def advance(self, t_stop: float, dt_max: float, where: str, check: bool) -> None:
+        """Drive to ``t_stop``; every accepted step's record goes to ``records``."""
+        from bristlecrawler import fe
+
+        run = self.driver(check)
+        carry = fe.driver_start(self.state, self.dt)
+        while float(carry.state.t) < t_stop - 1e-9:
+            it0, rej0 = int(carry.iterations), int(carry.rejected)
+            carry, buf, k, failed = run(
+                carry, self.model.params, t_stop, self.spec.solver.dt_min, dt_max
+            )
+            buf, k = jax.device_get(buf), int(k)
+            self.records.extend(jax.tree.map(lambda b, i=i: b[i], buf) for i in range(k))
+            self.iterations += int(carry.iterations) - it0
+            self.rejected += int(carry.rejected) - rej0
+            self.state, self.dt = carry.state, float(carry.dt)
+            if bool(failed):
+                raise SolverError(
+                    f"{where} near t = {float(carry.state.t):.4g} s: " + self._why(carry)
+                )
+            self.report()
+
+    def _why(self, carry) -> str:
+        from bristlecrawler import fe
+        from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe, is_fatal
+
+        sv = self.spec.solver
+        cause = int(carry.cause)
+        msg = fe.message(carry.info, f"step {len(self.records)}")
+        if cause == CONTACT_OVERFLOW:
+            return msg + f" (contact.active_points = {self.spec.contact.active_points})"
+        if is_fatal(cause):  # stopped at once: dt was not cut
+            return msg
+        text = describe(cause)
+        if cause == STEP_ERROR:
+            text += (
+                f": it created more energy than solver.energy_tol = {sv.energy_tol:g} mJ or "
+                f"lost more than solver.energy_loss_tol = {sv.energy_loss_tol:g} mJ"
+            )
+        return msg + f"; dt cut below dt_min = {sv.dt_min:g} s (last attempt: {text})"
+
+
+@dataclass(frozen=True)
+class Settle:
+    """Step 1: the crawler settles under gravity from its reference state for
+    ``actuation.settle_time`` (the actuators start after it), with provisional
+    mass-proportional damping (ratio ``max(damping.ratio, 0.15)`` at
+    ``RunOptions.settle_omega``)."""
+
+    name: str = "gravity step"
+
+    def span(self, session: Session) -> float:
+        return session.spec.actuation.settle_time
+
+    def __call__(self, session: Session) -> None:
+        from bristlecrawler import fe
+
+        spec, opt = session.spec, session.options
+        session.damping = fe.Rayleigh.from_ratio(
+            max(spec.damping.ratio, 0.15), opt.settle_omega, "mass"
+        )
+        session.model = session.damping.apply(session.crawler.model)
+        session.state = fe.initial_state(session.model)
+        session.dt = opt.dt0
+        session.report("compiling")
+        _time_compilation(session)
+        session.report(self.name)
+        session.advance(self.span(session), min(spec.solver.dt_max, 0.01), self.name, check=False)
+        session.records.clear()
+
+
+def _time_compilation(session: Session) -> None:
+    """The step's compilation (or its load from the persistent cache), timed apart: one
+    call of the host driver's jitted step (same argument types) on the initial state."""
+    from bristlecrawler import fe
+
+    if not session.host:
+        session.stats["compile_time_s"] = math.nan
+        return
+    m = session.crawler.model
+    t0 = time.perf_counter()
+    step = fe.make_step(
+        m.topology, m.terms, session.spec.solver.integrator(session.spec.contact.max_penetration)
+    )
+    dt = jnp.asarray(float(session.options.dt0) * 1e-3)
+    jax.block_until_ready(step(session.state, session.model.params, dt))
+    session.stats["compile_time_s"] = time.perf_counter() - t0
+
+
+@dataclass(frozen=True)
+class ModalDamping:
+    """The Rayleigh damping of the stroke: ``damping.ratio`` at the first resonant
+    frequency of the settled crawler (modal analysis with the contact tangent), or the
+    explicit ``a0``, ``a1``."""
+
+    name: str = "modal analysis"
+
+    def span(self, session: Session) -> float:
+        return 0.0
+
+    def __call__(self, session: Session) -> None:
+        from bristlecrawler import fe
+
+        session.report(self.name)
+        d, state = session.spec.damping, session.state
+        modes = fe.modes(session.model, state.q, n_modes=1, t=float(state.t), history=state.history)
+        session.omega1 = float(modes.omega[0])
+        if d.kind == "explicit":
+            session.damping = fe.Rayleigh(d.a0, d.a1)
+        else:
+            _check_resonance(session, float(modes.eigenvalues[0]))
+            session.damping = fe.Rayleigh.from_ratio(d.ratio, session.omega1, d.kind)
+        session.model = session.damping.apply(session.crawler.model)
+
+
+def _check_resonance(session: Session, w2: float) -> None:
+    zero = 1e-6 * session.options.settle_omega  # rad/s: below it the lowest mode does not resonate
+    if session.omega1 > zero:
+        return
+    if w2 < -(zero**2):
+        why = (
+            f"the settled state is unstable (lowest eigenvalue of the tangent {w2:.3g} "
+            "rad^2/s^2: the crawler rocks on its contact points)"
+        )
+    else:
+        why = "the crawler has a free rigid-body mode (no bristle sticks)"
+    raise SolverError(
+        f"after the gravity step {why} at t = {float(session.state.t):.3g} s, so the damping "
+        "cannot be set at the first resonance; lengthen actuation.settle_time or give "
+        "damping a0/a1"
+    )
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """Step 2: the prescribed shortening of every segment, recorded step by step, in
+    chunks of ``chunk`` simulated seconds (None: a twentieth of a period, at least 0.5 s)
+    so that progress moves."""
+
+    chunk: float | None = None
+    name: str = "stroke"
+
+    def span(self, session: Session) -> float:
+        return session.spec.actuation.stroke_duration(session.spec.segments)
+
+    def __call__(self, session: Session) -> None:
+        spec = session.spec
+        session.report("")
+        session.records.append(
+            jax.device_get(observer(session.crawler)(session.state, session.model.params))
+        )
+        chunk = self.chunk or max(spec.actuation.period / 20.0, 0.5)
+        t, t_end = float(session.state.t), float(session.state.t) + self.span(session)
+        wall0, it0 = time.perf_counter(), session.iterations
+        while t < t_end - 1e-9:
+            session.advance(min(t + chunk, t_end), spec.solver.dt_max, "stroke", check=True)
+            t = float(session.state.t)
+        session.stats["stroke_wall_time_s"] = time.perf_counter() - wall0
+        session.stats["stroke_newton_iterations"] = session.iterations - it0
+
+
+DEFAULT_STAGES: tuple[Stage, ...] = (Settle(), ModalDamping(), Stroke())
+
+
+def run(
+    crawler: CrawlerModel | CrawlerSpec,
+    stages: Sequence[Stage] = DEFAULT_STAGES,
+    *,
+    options: RunOptions | None = None,
+    on_progress: Callable[[Progress], None] | None = None,
+) -> CrawlerHistory:
+    """Run ``stages`` on a built crawler (or build a spec first) and return the record of
+    its stroke; raises :class:`SolverError` with where and why on a solver failure."""
+    wall0 = time.perf_counter()
+    cm = crawler if isinstance(crawler, CrawlerModel) else build(crawler)
+    options = options or RunOptions()
+    session = Session(cm, options, on_progress, t_end=0.0)
+    session.t_end = sum(s.span(session) for s in stages)
+    for stage in stages:
+        stage(session)
+    if not session.records:
+        raise InputError("a run needs a recording stage (Stroke) after the others")
+    session.stats["wall_time_s"] = time.perf_counter() - wall0
+    return history_of(session)
+
+
+def history_of(session: Session) -> CrawlerHistory:
+    """The :class:`CrawlerHistory` of a session's records (times from the stroke's start)."""
+    from bristlecrawler.contact.profile import drawing
+
+    cm, spec, records = session.crawler, session.spec, session.records
+    t = np.array([float(r["t"]) for r in records])
+    x = np.stack([np.asarray(r["x"]) for r in records])
+    fc = np.stack([np.asarray(r["fc"]) for r in records])
+    s = np.stack([np.asarray(r["stretch"]) for r in records])
+    en = np.stack([np.asarray(r["energies"]) for r in records])
+    energies = energy_series(t, fc, s, en)
+    settle = spec.actuation.settle_time
+    surf = drawing(spec.substrate.profile(), x[..., 0].min() - 5.0, x[..., 0].max() + 5.0)
+    a = spec.actuation
+    stats = {
+        "steps": len(records) - 1,
+        "newton_iterations": session.iterations,
+        "rejected_steps": session.rejected,
+        "first_frequency_hz": session.omega1 / (2 * math.pi),
+        "rayleigh_a0": session.damping.a0,
+        "rayleigh_a1": session.damping.a1,
+        **session.stats,
+    }
+    return CrawlerHistory(
+        t=t - settle,
+        s=s[:, 0],
+        left=x[:, cm.left],
+        right=x[:, cm.right],
+        connector_force=fc[:, 0],
+        connector_work=energies["external"],
+        tip_position=np.stack([x[:, tip] for tip in cm.tips], axis=1),
+        tip_state=np.stack([np.asarray(r["tip_state"]) for r in records]),
+        energies=energies,
+        frame_t=t - settle,
+        frame_nodes=x,
+        lines=cm.lines,
+        line_kind=cm.line_kind,
+        substrate_xy=np.asarray(surf),
+        period=a.period if a.history is None else None,
+        cycles=a.cycles,
+        stats=stats,
+        node_thickness=cm.node_thickness(),
+        segment_shortening=s,
+        segment_force=fc,
+        name=spec.name,
+    )
