@@ -143,4 +143,7 @@ def test_a_strain_peak_below_the_limit_reads_without_a_start():
     from bristlecrawler.crawler.history import StrainPeak
 
     text = StrainPeak(0.1, 5.0, 1, 3, 2.5).message()
-    assert text.startswith("bristle right turns by 5.0 deg at its node 3") and "above" not in text
+    assert (
+        text.startswith("bristle 1 (from the left) turns by 5.0 deg at its node 3")
+        and "above" not in text
+    )

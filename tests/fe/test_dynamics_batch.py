@@ -209,7 +209,6 @@ def test_compiled_driver_takes_the_steps_of_the_python_driver(model, host):
         40.0,
         4.0,
         integrator=scheme,
-        easy_iterations=4,
         observe=lambda st: np.asarray(st.u[-1, :2]),
     )
     carry, rec, failed = _drive(m, s0, 40.0, 4.0, scheme, capacity=7, dt_min=4e-4, host=host)

@@ -16,6 +16,7 @@ Public API (units: mm, N, s, mJ; everything float64 JAX, pure, jit/vmap/grad-abl
 The TOML tables that describe substrates are validated in :mod:`bristlecrawler.scenario`.
 """
 
+import bristlecrawler._x64  # noqa: F401  (float64 before any JAX code)
 from bristlecrawler.contact.coulomb import (
     OPEN,
     PAPER_TIP_LOAD,

@@ -15,8 +15,6 @@ from typing import Any
 import jax
 import numpy as np
 
-jax.config.update("jax_enable_x64", True)
-
 
 def is_concrete(*values: Any) -> bool:
     """True if no value is a JAX tracer (so it can be checked with numpy)."""

@@ -60,8 +60,6 @@ from bristlecrawler.contact.profile import _chain
 from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
 
-jax.config.update("jax_enable_x64", True)
-
 
 def convex_corners(substrate) -> tuple[np.ndarray, np.ndarray, float]:
     """Convex corners of one period of ``substrate``: centres (k, 2) mm, fillet radii (k,)
@@ -312,7 +310,7 @@ class FaceCornerContact:
         Broad phase: the exact geometry of the other pairs is evaluated only when one of
         them has a clearance <= 0 (it may touch); otherwise their forces are zero and
         are not computed. On the paper crawler this saved 10-15 % of a Newton iteration
-        (the same iterates; docs/fe-crawler-investigation.md, ninth session).
+        (the same iterates).
 
         With ``freeze`` (a bool, traced or not) each closed pair keeps the stick or slip
         status of the committed history instead of the return mapping's.

@@ -7,7 +7,7 @@ iteration of the paper crawler. A pair's forces depend only on the four outline 
 around the feature its corner projects on (:data:`WINDOW`, the coupling groups the term
 declares) and the current arc length between its stick anchor and its closest point, so
 :func:`near_forces` assembles the derivative from one 12 x 12 stiffness per pair
-(:func:`window_stiffness`); docs/fe-crawler-investigation.md, thirteenth session.
+(:func:`window_stiffness`).
 """
 
 from __future__ import annotations
@@ -21,8 +21,6 @@ from jax.custom_derivatives import SymbolicZero, zero_from_primal
 from bristlecrawler.contact.coulomb import generalized_forces
 from bristlecrawler.contact.outline import _features, _select
 from bristlecrawler.contact.term import attached_points
-
-jax.config.update("jax_enable_x64", True)
 
 #: Outline points a pair reads, relative to the first point c of its feature (segment c,
 #: sharp vertex c, fallback segment c): c - 1 ... c + 2 (:func:`~.outline._features`).

@@ -53,10 +53,9 @@ import numpy as np
 
 from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
 from bristlecrawler.errors import InputError
+from bristlecrawler.states import ContactState
 
-jax.config.update("jax_enable_x64", True)
-
-OPEN, STICK, SLIP = 0, 1, 2
+OPEN, STICK, SLIP = ContactState.OPEN, ContactState.STICK, ContactState.SLIP
 
 #: Relative width of the slip side of the stick/slip boundary: a point sticks only while
 #: ``|f_trial| <= (1 - STICK_TOL) mu p_N``. A point committed in slip has its anchor put at
@@ -65,7 +64,7 @@ OPEN, STICK, SLIP = 0, 1, 2
 #: ``s - a`` (about eps |s| / (mu p_N / k_t), 1e-10 for s ~ 100 mm and a stick drift of
 #: 1e-4 mm) decided between the stick tangent and the slip one. With the band a point that
 #: slipped stays on the slip branch until its trial force drops; the force changes by at
-#: most ``STICK_TOL mu p_N``. Measured (docs/fe-crawler-investigation.md): a bristle tip
+#: most ``STICK_TOL mu p_N``. Measured: a bristle tip
 #: sliding steadily got the stick tangent on about every other step and needed 2.87 Newton
 #: iterations per step, 1.90 with the band; the paper crawler's first cycle completed with
 #: the band in both runs made, and stopped in its first re-extension without it in all

@@ -27,8 +27,6 @@ from bristlecrawler.contact.coulomb import (
 )
 from bristlecrawler.contact.profile import project
 
-jax.config.update("jax_enable_x64", True)
-
 
 def _gs(x: jax.Array, substrate, radius=0.0) -> jax.Array:
     pr = project(substrate, x)

@@ -16,8 +16,6 @@ import jax.numpy as jnp
 
 from bristlecrawler.contact.profile import _cross
 
-jax.config.update("jax_enable_x64", True)
-
 #: A vertex of an outline whose two segments' normals differ by more than 45 degrees is a
 #: corner of the section (end faces), not a kink of a bent face: normals are not blended.
 _SHARP_COS = math.cos(math.pi / 4)
@@ -113,9 +111,8 @@ def _held_gap(A, B, nA, nB, C, t):
     the force got a component along the face of about p_N times the half turn of the
     outline at a vertex, with opposite signs on the two sides: the nodal forces jumped
     when the closest point crossed a vertex (0.018 N at p_N = 0.34 N on the vertical
-    crawler), and a corner stuck on a vertex left Newton no root at any step size
-    (docs/fe-crawler-investigation.md). The rule is itself differentiated with t(P, C)
-    varying, so the Newton tangent (a derivative of these forces) stays exact.
+    crawler), and a corner stuck on a vertex left Newton no root at any step size. The
+    rule is itself differentiated with t(P, C) varying, so the Newton tangent (a derivative of these forces) stays exact.
     """
     return _gap_at(A, B, nA, nB, C, t)
 

@@ -32,8 +32,6 @@ import numpy as np
 from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
 from bristlecrawler.errors import InputError
 
-jax.config.update("jax_enable_x64", True)
-
 # Ranking penalty (mm) for a candidate whose closest point was clamped to an end: such a point
 # is also the end of the neighbouring primitive, which then owns it with the right normal.
 _CLAMP_BIAS = 1e-9

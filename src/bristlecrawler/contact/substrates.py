@@ -27,8 +27,6 @@ from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_da
 from bristlecrawler.contact.profile import PeriodicProfile, check_vertices
 from bristlecrawler.errors import InputError
 
-jax.config.update("jax_enable_x64", True)
-
 
 def _require(ok: np.ndarray | bool, message: str) -> None:
     if not bool(np.all(ok)):

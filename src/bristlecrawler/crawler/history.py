@@ -13,7 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-TIP_OPEN, TIP_STICK, TIP_SLIP = 0, 1, 2
+from bristlecrawler.states import ContactState
+
+TIP_OPEN, TIP_STICK, TIP_SLIP = ContactState.OPEN, ContactState.STICK, ContactState.SLIP
 
 # A bending strain h kappa / 2 above which the beam model certainly does not hold: a
 # radius of curvature below the section's own thickness. (A linear-elastic beam is

@@ -135,16 +135,9 @@ class Session:
         energy = EnergyCheck(*tols) if check and any(map(math.isfinite, tols)) else None
         make = fe.make_host_driver if self.host else fe.make_driver
         m = self.crawler.model
-        return make(
-            m.topology,
-            m.terms,
-            ig,
-            observer(self.crawler),
-            self.options.capacity,
-            sv.grow,
-            sv.easy_iterations,
-            energy,
-        )
+        control = fe.StepControl(sv.grow, sv.easy_iterations)
+        obs = observer(self.crawler)
+        return make(m.topology, m.terms, ig, obs, self.options.capacity, control, energy)
 
     def advance(self, t_stop: float, dt_max: float, where: str, check: bool) -> None:
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""

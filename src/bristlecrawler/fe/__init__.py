@@ -8,19 +8,16 @@ Float64 throughout (enabled here, once). Units: mm, N, s, tonne (MPa, mJ).
 
 from __future__ import annotations
 
-import jax
-
-jax.config.update("jax_enable_x64", True)
-
-from bristlecrawler.fe.banded import BlockSystem  # noqa: E402
-from bristlecrawler.fe.cache import enable_compilation_cache  # noqa: E402
-from bristlecrawler.fe.drivers import (  # noqa: E402
+import bristlecrawler._x64  # noqa: F401  (float64 before any JAX code)
+from bristlecrawler.fe.banded import BlockSystem
+from bristlecrawler.fe.cache import enable_compilation_cache
+from bristlecrawler.fe.drivers import (
     DriverCarry,
     driver_start,
     make_driver,
     make_host_driver,
 )
-from bristlecrawler.fe.dynamics import (  # noqa: E402
+from bristlecrawler.fe.dynamics import (
     DynResult,
     DynState,
     Integrator,
@@ -31,19 +28,19 @@ from bristlecrawler.fe.dynamics import (  # noqa: E402
     make_step,
     run_fixed,
 )
-from bristlecrawler.fe.modal import Modes, modes  # noqa: E402
-from bristlecrawler.fe.model import Model, Params, Topology  # noqa: E402
-from bristlecrawler.fe.motion import Constant, Ramp, Sin2, Sine, TimeFunction  # noqa: E402
-from bristlecrawler.fe.static import (  # noqa: E402
+from bristlecrawler.fe.modal import Modes, modes
+from bristlecrawler.fe.model import Model, Params, Topology
+from bristlecrawler.fe.motion import Constant, Ramp, Sin2, Sine, TimeFunction
+from bristlecrawler.fe.static import (
     StaticOptions,
     StaticResult,
     StaticState,
     check_supported,
     solve_static,
 )
-from bristlecrawler.fe.status import StepInfo, check, message  # noqa: E402
-from bristlecrawler.fe.structure import Structure, TaperedRect  # noqa: E402
-from bristlecrawler.fe.terms import Term  # noqa: E402
+from bristlecrawler.fe.status import StepInfo, check, message
+from bristlecrawler.fe.structure import Structure, TaperedRect
+from bristlecrawler.fe.terms import Term
 
 __all__ = [
     "BlockSystem",
@@ -62,6 +59,7 @@ __all__ = [
     "StaticOptions",
     "StaticResult",
     "StaticState",
+    "StepControl",
     "StepInfo",
     "Structure",
     "TaperedRect",

@@ -20,6 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler.fe._pytree import pytree
+from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.dynamics import DynState, Integrator, StepInfo, make_step
 from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
 
@@ -47,17 +48,15 @@ def make_driver(
     integrator: Integrator | None,
     observe,
     capacity: int,
-    grow: float = 1.5,
-    easy_iterations: int = 4,
+    control: StepControl = DEFAULT_CONTROL,
     check=None,
 ):
     """Compiled adaptive stepping: ``run(carry, params, t_end, dt_min, dt_max)``.
 
     One ``lax.while_loop`` takes steps from ``carry.state`` until ``t_end`` (s), until
     ``capacity`` steps are accepted, or until a failed step cannot be cut (dt / 2 below
-    ``dt_min``, or at once on a fatal status, :data:`status.FATAL`). The step rules are those of
-    :func:`integrate` (halve on failure, grow by
-    ``grow`` after <= ``easy_iterations`` Newton iterations, stay within [dt_min, dt_max]).
+    ``dt_min``, or at once on a fatal status, :data:`status.FATAL`). The step rules are
+    ``control``'s (:class:`StepControl`), within [dt_min, dt_max].
     ``observe(state, params) -> pytree`` (jittable, static, hashable) is recorded after
     every accepted step into a buffer of ``capacity`` rows. ``check(previous, new) -> ratio``
     (jittable, static, hashable; optional) gets the records of the last accepted state and
@@ -88,17 +87,16 @@ def make_driver(
             h = jnp.minimum(carry.dt, t_end - carry.state.t)
             new, info = step(carry.state, params, h)
             rec = observe(new, params)
-            easy = info.iterations <= easy_iterations
+            easy = info.iterations <= control.easy_iterations
             if check is not None:
                 ratio = check(last, rec)
                 refused = (info.status == SUCCESS) & ~(ratio <= 1.0)
                 info = dataclasses.replace(info, status=jnp.where(refused, STEP_ERROR, info.status))
-                easy = easy & (ratio * grow**3 <= 1.0)
+                easy = easy & (ratio * control.grow**3 <= 1.0)
             good = info.status == SUCCESS
             last = jax.tree.map(lambda r, o: jnp.where(good, r, o), rec, last)
             buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
-            grown = jnp.where(easy, jnp.minimum(carry.dt * grow, dt_max), carry.dt)
-            dt = jnp.where(good, grown, 0.5 * h)
+            dt = control.next_dt(carry.dt, h, good, easy, dt_max)
             fatal = is_fatal(info.status)  # a smaller step cannot cure it
             failed = ~good & ((0.5 * h < dt_min) | fatal)
             cause = info.status
@@ -132,8 +130,7 @@ def make_host_driver(
     integrator: Integrator | None,
     observe,
     capacity: int,
-    grow: float = 1.5,
-    easy_iterations: int = 4,
+    control: StepControl = DEFAULT_CONTROL,
     check=None,
 ):
     """:func:`make_driver` with the loop on the host: same arguments, same step rules, same
@@ -141,12 +138,10 @@ def make_host_driver(
     failed)``, the buffer holding the ``n_recorded`` rows only), but each step is one call
     of the compiled :func:`make_step` and the observer.
 
-    Why both: per run the two cost the same on a CPU with the same iterates (five cycles
-    of `paper`: 30.8-31.8 s of stroke against 30.6-34.7 s, 2026-11-26; on the code of
-    2026-11-24 the compiled loop was 5 to 7 times slower), but each compiled loop holds
-    the whole step, so it takes longer to compile and to load from the cache. The host
-    loop is the CPU default; the compiled driver is the form for a GPU and for ``vmap``
-    batches (docs/fe-crawler-investigation.md, twelfth session).
+    Why both: per run the two cost about the same on a CPU with the same iterates, but
+    each compiled loop holds the whole step, so it takes longer to compile and to load
+    from the cache. The host loop is the CPU default; the compiled driver is the form for
+    a GPU and for ``vmap`` batches.
     """
     step = make_step(topo, terms, integrator)
 
@@ -174,14 +169,14 @@ def make_host_driver(
             new, info = step(state, params, jnp.asarray(h))
             status, its = int(info.status), int(info.iterations)
             rec = None
-            easy = its <= easy_iterations
+            easy = its <= control.easy_iterations
             if accept is not None and status == SUCCESS:
                 rec = obs(new, params)
                 ratio = float(accept(last, rec))
                 if not ratio <= 1.0:
                     status = STEP_ERROR
                     info = dataclasses.replace(info, status=jnp.asarray(STEP_ERROR))
-                easy = easy and ratio * grow**3 <= 1.0
+                easy = easy and ratio * control.grow**3 <= 1.0
             good = status == SUCCESS
             iterations += its
             cause = status
@@ -191,10 +186,10 @@ def make_host_driver(
                 rec = obs(new, params) if rec is None else rec
                 rows.append(rec)
                 last = rec
-                dt = min(dt * grow, dt_max) if easy else dt
             else:
                 rejected += 1
-                dt = 0.5 * h
+            dt = control.next_dt(dt, h, good, easy, dt_max)
+            if not good:
                 failed = dt < dt_min or bool(is_fatal(status))
                 if failed and not is_fatal(status):
                     info = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))

@@ -33,6 +33,7 @@ import numpy as np
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
+from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import newton
 from bristlecrawler.fe.status import (
     PENETRATION,
@@ -348,16 +349,15 @@ def integrate(
     integrator: Integrator | None = None,
     dt_min: float | None = None,
     dt_max: float | None = None,
-    grow: float = 1.5,
-    easy_iterations: int = 3,
+    control: StepControl = DEFAULT_CONTROL,
     observe=None,
     throw: bool = True,
 ) -> DynResult:
     """Adaptive time stepping from ``state`` to ``t_end`` (s), starting with step ``dt`` (s).
 
     A step that fails (Newton limit, NaN) is retried with dt/2 (but a fatal status,
-    :data:`status.FATAL`, which a smaller step cannot cure, ends the run); after a step
-    that converged in <= ``easy_iterations`` the step grows by ``grow``; dt stays in
+    :data:`status.FATAL`, which a smaller step cannot cure, ends the run); after an easy
+    step it grows (``control``, :class:`StepControl`); dt stays in
     [dt_min, dt_max] (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded
     after every accepted step. Returns :class:`DynResult`; raises SolverError if ``throw``
     and dt falls below dt_min.
@@ -381,11 +381,12 @@ def integrate(
             times.append(t)
             if observe is not None:
                 observed.append(observe(state))
-            if int(info.iterations) <= easy_iterations:
-                h = min(h * grow, dt_max)
+            h = control.next_dt(
+                h, h_try, True, int(info.iterations) <= control.easy_iterations, dt_max
+            )
             continue
         rejected += 1
-        h = 0.5 * h_try
+        h = control.next_dt(h, h_try, False, False, dt_max)
         if is_fatal(int(info.status)):
             msg = message(info, f"dynamics, step {len(times) + 1}")
             if throw:

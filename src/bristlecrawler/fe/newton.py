@@ -1,14 +1,20 @@
 """Newton-Raphson with backtracking line search, jit/vmap friendly (``lax.while_loop``).
 
 Tangent by coloured JVPs of the residual (:func:`banded.extract`), solve by the bordered
-block-tridiagonal algorithm. Line search is a safeguard: the step is
-halved (at most ``max_backtracks`` times) while the trial residual is NaN/inf or larger than
-``growth`` (1e6) times the current one, i.e. only against blow-ups. Monotone merits were
-tried and rejected: Armijo on |R|^2, Crisfield's energy-slope search (Crisfield 1991,
-Sec. 9.3) and Deuflhard's natural monotonicity test all cut the good full Newton steps of a
-slender beam (from the straight cantilever the full step overshoots in axial strain by a
-factor ~1e4 in |R|, and the next step removes it), and Newton then needed 30-45 iterations
-instead of 6-8 for P L^2/EI = 1..10. Robustness comes from the adaptive load / time steps.
+block-tridiagonal algorithm. Two line searches:
+
+* growth (the default of :class:`fe.Integrator`): a correction is halved (at most
+  ``max_backtracks`` times) only while the trial residual is NaN/inf or larger than
+  ``growth`` (1e6) times the current one. For a slender beam it keeps the good full Newton
+  steps that monotone merits cut: from the straight cantilever the full step overshoots in
+  axial strain by a factor ~1e4 in |R| and the next step removes it; Armijo on |R|^2,
+  Crisfield's energy-slope search (Crisfield 1991, Sec. 9.3) and Deuflhard's natural
+  monotonicity test needed 30-45 iterations instead of 6-8 for P L^2/EI = 1..10.
+* monotone: halve until the residual decreases. It breaks the cycle of a contact point
+  that flips between stick and slip from one iterate to the next, which is why the crawler
+  scenarios use it (``[solver] line_search``).
+
+Robustness otherwise comes from the adaptive load and time steps.
 Converged when |R| <= rtol F + atol, F the force scale returned by the residual.
 """
 

@@ -7,22 +7,42 @@ raise :class:`~bristlecrawler.errors.SolverError` only when called with ``throw=
 
 from __future__ import annotations
 
+import enum
+
 import numpy as np
 
 from bristlecrawler.errors import SolverError
 from bristlecrawler.fe._pytree import pytree
 
-SUCCESS = 0
-MAX_ITERATIONS = 1
-NONFINITE = 2
-STEP_TOO_SMALL = 3
-SINGULAR = 4
-ROTATION_LIMIT = 5
-PENETRATION = 6
-STEP_ERROR = 7
-CONTACT_OVERFLOW = 8
-STALLED = 9
-UNSUPPORTED_DAMPING = 10
+
+class Status(enum.IntEnum):
+    """Outcome of a solver step (a value inside compiled programs, so an integer)."""
+
+    SUCCESS = 0
+    MAX_ITERATIONS = 1
+    NONFINITE = 2
+    STEP_TOO_SMALL = 3
+    SINGULAR = 4
+    ROTATION_LIMIT = 5
+    PENETRATION = 6
+    STEP_ERROR = 7
+    CONTACT_OVERFLOW = 8
+    STALLED = 9
+    UNSUPPORTED_DAMPING = 10
+
+
+# The members as module names, for the kernels and drivers.
+SUCCESS = Status.SUCCESS
+MAX_ITERATIONS = Status.MAX_ITERATIONS
+NONFINITE = Status.NONFINITE
+STEP_TOO_SMALL = Status.STEP_TOO_SMALL
+SINGULAR = Status.SINGULAR
+ROTATION_LIMIT = Status.ROTATION_LIMIT
+PENETRATION = Status.PENETRATION
+STEP_ERROR = Status.STEP_ERROR
+CONTACT_OVERFLOW = Status.CONTACT_OVERFLOW
+STALLED = Status.STALLED
+UNSUPPORTED_DAMPING = Status.UNSUPPORTED_DAMPING
 
 #: Failures a smaller step cannot cure: the drivers stop at once instead of cutting dt.
 FATAL = (CONTACT_OVERFLOW, UNSUPPORTED_DAMPING)

@@ -29,7 +29,7 @@ from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import (
     SLIP_BACKWARD,
     SLIP_FORWARD,
-    STICK,
+    SLIP_NONE,
     Event,
     ReducedResult,
     solve,
@@ -51,7 +51,7 @@ __all__ = [
     "PAPER_S_MAX",
     "SLIP_BACKWARD",
     "SLIP_FORWARD",
-    "STICK",
+    "SLIP_NONE",
     "Calibration",
     "DirectionalFriction",
     "Event",

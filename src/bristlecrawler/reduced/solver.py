@@ -31,8 +31,10 @@ import numpy as np
 
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.reduced.crawler import ReducedCrawler
+from bristlecrawler.states import Slip
 
-STICK, SLIP_FORWARD, SLIP_BACKWARD = 0, 1, -1
+# The reduced model's bristle states: the sign of the sliding velocity (Slip.NONE: stick).
+SLIP_NONE, SLIP_FORWARD, SLIP_BACKWARD = Slip.NONE, Slip.FORWARD, Slip.BACKWARD
 
 
 @dataclass(frozen=True)
@@ -46,7 +48,7 @@ class Event:
 
     @property
     def kind(self) -> str:
-        names = {STICK: "stick", SLIP_FORWARD: "slip+", SLIP_BACKWARD: "slip-"}
+        names = {SLIP_NONE: "stick", SLIP_FORWARD: "slip+", SLIP_BACKWARD: "slip-"}
         return f"{names[self.before]}->{names[self.after]}"
 
 
@@ -201,7 +203,7 @@ class _Stepper:
 
     def mode(self, xdot: np.ndarray) -> np.ndarray:
         return np.where(
-            xdot > self.tol, SLIP_FORWARD, np.where(xdot < -self.tol, SLIP_BACKWARD, STICK)
+            xdot > self.tol, SLIP_FORWARD, np.where(xdot < -self.tol, SLIP_BACKWARD, SLIP_NONE)
         )
 
     def time_to_yield(self, e: np.ndarray, edot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -319,7 +321,7 @@ def solve(
 
         # Advance the unchanged mode in bulk over samples m..end.
         end = min(M - 1, m + chunk)
-        stick = mode == STICK
+        stick = mode == SLIP_NONE
         da = a[m : end + 1] - a[m]
         # Body motion: balance of the sticking springs; with every tip sliding (a degenerate
         # balance, F_n = F_p) the least-squares slip rates of the rate problem.

@@ -103,11 +103,10 @@ def run_resolving(
     integrator=HHT,
     dt_min=None,
     dt_floor=None,
-    grow=1.5,
-    easy_iterations=3,
+    control=None,
 ):
-    """Time stepping as :func:`fe.integrate` (halve a step on failure, grow it by ``grow``
-    after <= ``easy_iterations`` Newton iterations, steps <= ``dt`` s), and a converged step
+    """Time stepping as :func:`fe.integrate` (the rules of ``control``, a
+    :class:`fe.StepControl`, default its defaults; steps <= ``dt`` s), and a converged step
     is also cut when the normal force of a slipping contact point changes by more than
     ``max_dp`` N in it.
 
@@ -126,6 +125,7 @@ def run_resolving(
     from bristlecrawler.errors import SolverError
     from bristlecrawler.fe.status import SUCCESS, message
 
+    control = control or fe.StepControl()
     dt_min = dt * 1e-4 if dt_min is None else dt_min
     dt_floor = dt / 16.0 if dt_floor is None else dt_floor
     step = fe.make_step(model.topology, model.terms, integrator)
@@ -142,11 +142,10 @@ def run_resolving(
             state, t = new, float(new.t)
             times.append(t)
             observed.append(observe(state))
-            if int(info.iterations) <= easy_iterations:
-                h = min(h * grow, dt)
+            h = control.next_dt(h, h_try, True, int(info.iterations) <= control.easy_iterations, dt)
             continue
         rejected += 1
-        h = 0.5 * h_try
+        h = control.next_dt(h, h_try, False, False, dt)
         if h < dt_min:
             raise SolverError(
                 message(info, f"dynamics, step {len(times) + 1}")
