@@ -112,7 +112,8 @@ def _held_gap(A, B, nA, nB, C, t):
     outline at a vertex, with opposite signs on the two sides: the nodal forces jumped
     when the closest point crossed a vertex (0.018 N at p_N = 0.34 N on the vertical
     crawler), and a corner stuck on a vertex left Newton no root at any step size. The
-    rule is itself differentiated with t(P, C) varying, so the Newton tangent (a derivative of these forces) stays exact.
+    rule is itself differentiated with t(P, C) varying, so the Newton tangent (a
+    derivative of these forces) stays exact.
     """
     return _gap_at(A, B, nA, nB, C, t)
 
