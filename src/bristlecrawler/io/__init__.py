@@ -1,7 +1,8 @@
-"""Input/output at the edges: run folders, atomic writes, configuration parsing, NetCDF."""
+"""Input/output at the edges: run folders, atomic writes, NetCDF, VTK.
+
+Configuration files are validated in :mod:`bristlecrawler.scenario`."""
 
 from bristlecrawler.io.atomic import atomic_path, atomic_write_text
-from bristlecrawler.io.config import parse_model
 from bristlecrawler.io.runs import (
     RunInfo,
     check_out_dir,
@@ -16,7 +17,6 @@ __all__ = [
     "atomic_write_text",
     "check_out_dir",
     "git_revision",
-    "parse_model",
     "prepare_run_dir",
     "write_run_metadata",
 ]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from bristlecrawler.io.reduced_config import ReducedConfig
+from bristlecrawler.scenario.reduced import ReducedConfig
 from bristlecrawler.reduced import closed_form as cf
 from bristlecrawler.reduced.crawler import ReducedCrawler
 from bristlecrawler.reduced.gaits import breathing, peristaltic

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.io.config import parse_model
+from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.schema import Scenario
 from bristlecrawler.scenario.substrate import parse_substrate
 

@@ -11,7 +11,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from bristlecrawler.crawler.spec import Actuation, Body, Bristle, Contact, Damping, Solver
-from bristlecrawler.io.config import StrictSection
+from bristlecrawler.scenario.strict import StrictSection
 from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
 
 _BODY, _BRISTLE, _CONTACT = Body(), Bristle(), Contact()

@@ -28,7 +28,7 @@ from pydantic import (
 
 from bristlecrawler.contact.substrates import PAPER_MU, Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
-from bristlecrawler.io.config import StrictSection
+from bristlecrawler.scenario.strict import StrictSection
 
 _MU = Field(
     PAPER_MU,
