@@ -3,7 +3,7 @@
 Corotational beams with tapered sections, point masses, rigid bodies, springs, rigid links
 (with prescribed stretch: the actuated body), prescribed motions and dead loads; static
 Newton with load stepping, modal analysis, Newmark / HHT-alpha dynamics with adaptive steps.
-Float64 throughout (enabled here, once). Units: mm, N, s, tonne (MPa, mJ).
+Float64 throughout (:mod:`bristlecrawler._x64`). Units: mm, N, s, tonne (MPa, mJ).
 """
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ from __future__ import annotations
 import bristlecrawler._x64  # noqa: F401  (float64 before any JAX code)
 from bristlecrawler.fe.banded import BlockSystem
 from bristlecrawler.fe.cache import enable_compilation_cache
+from bristlecrawler.fe.control import StepControl
 from bristlecrawler.fe.drivers import (
     DriverCarry,
     driver_start,
