@@ -8,9 +8,17 @@ import pytest
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import Integrator
-from bristlecrawler.fe.newton import newton
+from bristlecrawler.fe.newton import NewtonOptions
+from bristlecrawler.fe.newton import newton as _newton
 from bristlecrawler.fe.status import MAX_ITERATIONS, STALLED, SUCCESS
 from bristlecrawler.verification.cases import cantilever
+
+
+def newton(residual, q0, topo, predict=None, monotone=False, max_move=math.inf, **kw):
+    """:func:`fe.newton.newton` with its options given as keywords."""
+    line_search = "monotone" if monotone else "growth"
+    opts = NewtonOptions(line_search=line_search, max_correction=max_move, **kw)
+    return _newton(residual, q0, topo, opts, predict=predict)
 
 
 def _solve(monotone, target):
@@ -258,7 +266,7 @@ def test_non_positive_max_correction_is_refused(cap):
         Integrator.hht(max_correction=cap)
     topo = cantilever().topology
     residual, _ = _linear(topo, 1.0, 0.0)
-    with pytest.raises(InputError, match="max_move"):
+    with pytest.raises(InputError, match="max_correction"):
         newton(
             residual, jnp.zeros(topo.n_red), topo, rtol=1e-12, atol=0.0, max_iter=4, max_move=cap
         )

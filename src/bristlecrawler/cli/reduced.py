@@ -76,9 +76,9 @@ def reduced_cmd(
     5 cycles of s(t) = s~ sin^2(pi t / T), T = 20 s. Writes reduced.nc (xarray/NetCDF),
     delta_vs_s.png, friction_law.png, summary.json, config.json and meta.json.
     """
-    from bristlecrawler.scenario.strict import parse_model
-    from bristlecrawler.scenario.reduced import ReducedConfig
     from bristlecrawler.jobs.reduced import run_reduced
+    from bristlecrawler.scenario.reduced import ReducedConfig
+    from bristlecrawler.scenario.strict import parse_model
 
     config = parse_model(
         ReducedConfig,

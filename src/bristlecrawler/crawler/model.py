@@ -111,7 +111,6 @@ def stretches(spec: CrawlerSpec) -> list:
 
 def _body_and_bristles(s, spec: CrawlerSpec):
     """Body nodes, masses, actuated links, clamps and bristle chains."""
-    from bristlecrawler import fe
 
     c = spec.contact
     drops = [_drop(b, c) for b in spec.bristles]
@@ -126,15 +125,7 @@ def _body_and_bristles(s, spec: CrawlerSpec):
         s.fix(body[0], "theta")
     chains, clamps = [], []
     for node, b, (drop, tip_y) in zip(body, spec.bristles, drops, strict=True):
-        section = fe.TaperedRect(
-            E=b.youngs_modulus,
-            b=b.width,
-            h0=b.thickness_clamp,
-            h1=b.thickness_tip,
-            rho=b.density,
-            nu=b.poisson_ratio,
-            shear=b.shear,
-        )
+        section = b.section()
         clamp = s.node(b.position, drop)
         s.rigid_link(clamp, node)
         tip = (b.position - b.length * math.sin(b.alpha), tip_y)

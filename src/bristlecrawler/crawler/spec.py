@@ -91,10 +91,23 @@ class Bristle:
         """Inclination, rad."""
         return math.radians(self.alpha_deg)
 
+    def section(self):
+        """The bristle's :class:`fe.TaperedRect` (linear taper from clamp to tip)."""
+        from bristlecrawler.fe import TaperedRect
+
+        return TaperedRect(
+            E=self.youngs_modulus,
+            b=self.width,
+            h0=self.thickness_clamp,
+            h1=self.thickness_tip,
+            rho=self.density,
+            nu=self.poisson_ratio,
+            shear=self.shear,
+        )
+
     def thickness(self, fraction) -> np.ndarray:
         """Section thickness (mm) at ``fraction`` (0 at the clamp, 1 at the tip) of the length."""
-        f = np.asarray(fraction, dtype=float)
-        return self.thickness_clamp + (self.thickness_tip - self.thickness_clamp) * f
+        return self.section().thickness(fraction)
 
     def node_thickness(self) -> np.ndarray:
         """Thickness (mm) at the ``elements + 1`` nodes, clamp to tip."""

@@ -32,6 +32,7 @@ from bristlecrawler.fe.dynamics import (
 from bristlecrawler.fe.modal import Modes, modes
 from bristlecrawler.fe.model import Model, Params, Topology
 from bristlecrawler.fe.motion import Constant, Ramp, Sin2, Sine, TimeFunction
+from bristlecrawler.fe.newton import NewtonOptions
 from bristlecrawler.fe.static import (
     StaticOptions,
     StaticResult,
@@ -52,6 +53,7 @@ __all__ = [
     "Integrator",
     "Model",
     "Modes",
+    "NewtonOptions",
     "Params",
     "Ramp",
     "Rayleigh",

@@ -34,7 +34,7 @@ from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
-from bristlecrawler.fe.newton import newton
+from bristlecrawler.fe.newton import NewtonOptions, newton
 from bristlecrawler.fe.status import (
     PENETRATION,
     ROTATION_LIMIT,
@@ -51,6 +51,8 @@ from bristlecrawler.fe.terms import (
     init_histories,
     max_penetration,
 )
+
+_NEWTON = NewtonOptions()
 
 
 @pytree()
@@ -100,37 +102,38 @@ class Integrator:
     alpha: float = -0.05
     beta: float = 0.25 * 1.05**2
     gamma: float = 0.55
-    rtol: float = 1e-9
-    atol: float = 0.0
-    max_iter: int = 12
-    line_search: str = "growth"
+    rtol: float = _NEWTON.rtol
+    atol: float = _NEWTON.atol
+    max_iter: int = _NEWTON.max_iter
+    line_search: str = _NEWTON.line_search
     predictor: str = "tangent"
     max_penetration: float = math.inf
     max_rotation: float = 1.0
-    stall: int = 0
-    freeze: int = 0
-    max_correction: float = math.inf
+    stall: int = _NEWTON.stall
+    freeze: int = _NEWTON.freeze
+    max_correction: float = _NEWTON.max_correction
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.freeze, int) and 0 <= self.freeze < self.max_iter):
-            raise InputError(
-                f"freeze must be a whole number in [0, max_iter = {self.max_iter}), "
-                f"got {self.freeze!r}"
-            )
-        if not (isinstance(self.stall, int) and self.stall >= 0):
-            raise InputError(f"stall must be a whole number >= 0, got {self.stall!r}")
-        if self.line_search not in ("growth", "monotone"):
-            raise InputError(
-                f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
-            )
+        self.newton  # noqa: B018  (checks the Newton settings)
         if not self.max_rotation > 0.0:
             raise InputError(f"max_rotation must be > 0 rad, got {self.max_rotation}")
-        if not self.max_correction > 0.0:
-            raise InputError(f"max_correction must be > 0 mm, got {self.max_correction}")
         if not self.max_penetration > 0.0:
             raise InputError(f"max_penetration must be > 0 mm, got {self.max_penetration}")
         if self.predictor not in ("tangent", "constant"):
             raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
+
+    @property
+    def newton(self) -> NewtonOptions:
+        """The Newton settings of each step, as the one options object :func:`newton` takes."""
+        return NewtonOptions(
+            rtol=self.rtol,
+            atol=self.atol,
+            max_iter=self.max_iter,
+            line_search=self.line_search,
+            stall=self.stall,
+            freeze=self.freeze,
+            max_correction=self.max_correction,
+        )
 
     @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
@@ -239,18 +242,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
         else:
             predict = None
         q1, it, rn, F, status = newton(
-            residual,
-            state.q,
-            topo,
-            rtol=ig.rtol,
-            atol=ig.atol,
-            max_iter=ig.max_iter,
-            xscale=jnp.linalg.norm(params.X),
-            monotone=ig.line_search == "monotone",
-            stall=ig.stall,
-            predict=predict,
-            freeze=ig.freeze,
-            max_move=ig.max_correction,
+            residual, state.q, topo, ig.newton, xscale=jnp.linalg.norm(params.X), predict=predict
         )
         u1, v1, a1 = kin(q1)
         h1 = commit_all(terms, u1, v1, t1, state.history, params)

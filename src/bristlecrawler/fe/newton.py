@@ -20,8 +20,10 @@ Converged when |R| <= rtol F + atol, F the force scale returned by the residual.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
+from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -32,25 +34,75 @@ from bristlecrawler.fe import banded
 from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, STALLED, SUCCESS
 
 
-def newton(
-    residual,
-    q0,
-    topo,
-    *,
-    rtol,
-    atol,
-    max_iter,
-    xscale=0.0,
-    xtol=1e-13,
-    max_backtracks=8,
-    growth=1e6,
-    monotone=False,
-    stall=0,
-    predict=None,
-    freeze=0,
-    max_move=math.inf,
-):
-    """Solve residual(q)[0] = 0 from ``q0``. Returns (q, iterations, |R|, F, status).
+@dataclasses.dataclass(frozen=True)
+class NewtonOptions:
+    """Settings of :func:`newton`, one object for the dynamic step (:class:`Integrator`),
+    the static solver (:class:`StaticOptions`) and the crawler's ``[solver]`` table. Static:
+    part of the compiled programs, so hashable.
+
+    Attributes:
+        rtol, atol: converged when |R| <= rtol F + atol (F the residual's force scale, N).
+        max_iter: iterations per solve.
+        line_search: "growth" (halve only against blow-ups) or "monotone" (halve until the
+            residual decreases).
+        stall: give up (status STALLED) once this many iterations pass without the residual
+            halving (0: off).
+        freeze: first iterations that keep the contact statuses frozen (0: off); < max_iter.
+        max_correction: largest translation (mm) of a correction's first trial (inf: off).
+        xtol: converged when the last correction is below xtol max(|q|, size).
+        max_backtracks: halvings of one correction.
+        growth: the growth search's bound on |R_new| / |R|.
+    """
+
+    rtol: float = 1e-9
+    atol: float = 0.0
+    max_iter: int = 12
+    line_search: str = "growth"
+    stall: int = 0
+    freeze: int = 0
+    max_correction: float = math.inf
+    xtol: float = 1e-13
+    max_backtracks: int = 8
+    growth: float = 1e6
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.max_iter, numbers.Integral) and self.max_iter >= 1):
+            # Also required by the predictor: iteration 0 must run, since the start's
+            # residual comes from its linearisation.
+            raise InputError(f"max_iter must be a whole number >= 1, got {self.max_iter!r}")
+        if not (isinstance(self.freeze, int) and 0 <= self.freeze < self.max_iter):
+            raise InputError(
+                f"freeze must be a whole number in [0, max_iter = {self.max_iter}), "
+                f"got {self.freeze!r}"
+            )
+        if not (isinstance(self.stall, int) and self.stall >= 0):
+            raise InputError(f"stall must be a whole number >= 0, got {self.stall!r}")
+        if self.line_search not in ("growth", "monotone"):
+            raise InputError(
+                f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
+            )
+        if not self.max_correction > 0.0:  # also NaN
+            raise InputError(f"max_correction must be > 0 mm, got {self.max_correction}")
+
+
+class _Iterate(NamedTuple):
+    """Newton's loop state: iterate, residual, force scale, iteration count, last
+    correction's size, the residual and iteration the stall test counts from, and
+    whether the contact statuses are still frozen."""
+
+    q: Any
+    R: Any
+    F: Any
+    it: Any
+    dx: Any
+    ref: Any
+    it_ref: Any
+    fz: Any
+
+
+def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=None):
+    """Solve residual(q)[0] = 0 from ``q0`` with ``options`` (:class:`NewtonOptions`; the
+    names below are its fields). Returns (q, iterations, |R|, F, status).
 
     Also converged when the last correction is below ``xtol`` max(|q|, ``xscale``) (xscale:
     size of the structure, mm): the iterate has stopped moving at round-off. The residual
@@ -59,25 +111,25 @@ def newton(
     1e-4 N) is far above rtol F. The achieved |R|/F is reported either way.
 
     Each correction is halved (up to ``max_backtracks`` times) while the new residual is
-    not finite or exceeds ``growth`` times the current one; with ``monotone`` (static,
-    part of the compiled program) while it does not decrease at all. The monotone search
+    not finite or exceeds ``growth`` times the current one; with the ``monotone`` line
+    search while it does not decrease at all. The monotone search
     breaks the cycle of a contact point that flips between stick and slip from one
     iterate to the next (a friction force offset from a beam axis locks the node's
     rotation in stick and frees it in slip, so full Newton corrections alternate).
 
-    ``max_move`` (static, mm; inf: off): the first trial of each correction after the
+    ``max_correction`` (mm; inf: off): the first trial of each correction after the
     predictor is scaled down so that no translation among the unknowns (the reduced
     unknowns of x and y; nodes tied to them by rigid links are not counted) moves by
-    more than ``max_move``; the halvings, if the trial fails, start from there and stop
+    more than ``max_correction``; the halvings, if the trial fails, start from there and stop
     at the same floor, ``2**-max_backtracks`` of the whole correction. A fixed cap (a
     trust region of constant radius): after the predictor, Newton moves by at most
-    ``max_move`` per iteration, so an attempt cannot travel further than ``max_iter``
+    ``max_correction`` per iteration, so an attempt cannot travel further than ``max_iter``
     times it. A contact residual is curved on the scale of its penalty (microns): a
     correction that moved a bristle tip by millimetres, through the substrate, raised
     |R| a thousandfold and took all eight halvings to find that even 1/256 of it does
     not decrease |R|; the cap reaches that scale in a few trials.
 
-    ``stall`` (static, 0: off): give up, with status STALLED, once ``stall`` iterations
+    ``stall`` (0: off): give up, with status STALLED, once ``stall`` iterations
     have passed without the residual halving (below half the last residual that did).
     Newton on a contact event that the step is too long for cycles between contact
     states or creeps at |R|/F ~ 1e-2..1e-5 until the iteration limit; stopping early
@@ -91,7 +143,7 @@ def newton(
     It runs in the same loop body as the corrections, so the compiled program holds one
     linearised residual, not two.
 
-    ``freeze`` (static, 0: off): ``residual`` also takes a bool ``freeze`` (after ``tc``
+    ``freeze`` (0: off): ``residual`` also takes a bool ``freeze`` (after ``tc``
     when there is one). Newton starts with it True: a contact residual then keeps each
     closed point in the stick or slip status it was committed with (an active-set
     start). It turns False for good once that frozen problem has converged or
@@ -101,6 +153,10 @@ def newton(
     narrower than a correction); with the statuses frozen the first iterations solve a
     smooth problem, and the free ones start next to the solution when the statuses hold.
     """
+    o = options
+    rtol, atol, max_iter, xtol, growth = o.rtol, o.atol, o.max_iter, o.xtol, o.growth
+    stall, freeze, max_move = o.stall, o.freeze, o.max_correction
+    monotone = o.line_search == "monotone"
     if predict is None:
         tc0 = tc1 = dt = jnp.zeros(())
     else:
@@ -114,10 +170,6 @@ def newton(
     def first(it):
         return (it == 0) if predict is not None else jnp.asarray(False)
 
-    if not (isinstance(max_iter, numbers.Integral) and max_iter >= 1):
-        # Also required by the predictor: iteration 0 must run, since the start's residual
-        # comes from its linearisation.
-        raise InputError(f"max_iter must be a whole number >= 1, got {max_iter!r}")
     if predict is None:
         R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
     else:
@@ -125,9 +177,7 @@ def newton(
         # linearisation: no separate evaluation (one residual less per step).
         R0 = jnp.zeros_like(q0)
         F0 = jnp.ones((), q0.dtype)
-    floor = 0.5**max_backtracks  # smallest trial, a fraction of the whole correction
-    if not max_move > 0.0:  # also NaN
-        raise InputError(f"max_move must be > 0 mm, got {max_move}")
+    floor = 0.5**o.max_backtracks  # smallest trial, a fraction of the whole correction
     if math.isfinite(max_move):
         translation = jnp.asarray(np.asarray(topo.arrays()["red"])[:, 1] < 2)
 
@@ -212,11 +262,11 @@ def newton(
             ref = jnp.where(unfreeze, jnp.linalg.norm(Rn), ref)
             it_ref = jnp.where(unfreeze, it + 1, it_ref)
             fz = fz & ~unfreeze
-        return qn, Rn, Fn, it + 1, dx, ref, it_ref, fz
+        return _Iterate(qn, Rn, Fn, it + 1, dx, ref, it_ref, fz)
 
     zero = jnp.asarray(0)
     fz0 = jnp.asarray(freeze > 0)
-    init = (q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero, fz0)
+    init = _Iterate(q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero, fz0)
     q, R, F, it, dx, _, it_ref, fz = jax.lax.while_loop(cond, body, init)
     finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
     failed = jnp.where(stalled(it, it_ref), STALLED, MAX_ITERATIONS)

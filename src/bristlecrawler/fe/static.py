@@ -18,7 +18,7 @@ import numpy as np
 
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
-from bristlecrawler.fe.newton import newton
+from bristlecrawler.fe.newton import NewtonOptions, newton
 from bristlecrawler.fe.status import (
     CONTACT_OVERFLOW,
     ROTATION_LIMIT,
@@ -63,6 +63,11 @@ class StaticOptions:
     easy_iterations: int = 4
     max_rotation: float = 1.0
 
+    @property
+    def newton(self) -> NewtonOptions:
+        """The Newton settings of each increment (:class:`NewtonOptions`)."""
+        return NewtonOptions(rtol=self.rtol, atol=self.atol, max_iter=self.max_iter)
+
 
 @dataclasses.dataclass(frozen=True)
 class StaticResult:
@@ -86,7 +91,7 @@ def static_residual(q, t, lam, history, params, topo, terms):
 
 
 @functools.lru_cache(maxsize=64)
-def make_static_solver(topo, terms, rtol, atol, max_iter):
+def make_static_solver(topo, terms, newton_options):
     """Jitted ``solve(q0, params, t, lam, history) -> (q, u, StepInfo)`` for one topology."""
 
     @jax.jit
@@ -95,7 +100,7 @@ def make_static_solver(topo, terms, rtol, atol, max_iter):
             return static_residual(q, t, lam, history, params, topo, terms)
 
         q, it, rn, F, status = newton(
-            res, q0, topo, rtol=rtol, atol=atol, max_iter=max_iter, xscale=jnp.linalg.norm(params.X)
+            res, q0, topo, newton_options, xscale=jnp.linalg.norm(params.X)
         )
         u = assembly.expand(q, t, lam, params, topo)
         status = flag_overflow(terms, u, params, status)
@@ -132,7 +137,7 @@ def solve_static(
         check_support = not model.terms
     if check_support:
         check_supported(model, t)
-    solver = make_static_solver(topo, model.terms, options.rtol, options.atol, options.max_iter)
+    solver = make_static_solver(topo, model.terms, options.newton)
     state = initial_static_state(model, t) if state is None else state
     lam = float(state.lam) if float(state.t) == float(t) else 0.0
     dlam = min(options.max_increment, 1.0 / max(options.increments, 1))

@@ -46,6 +46,11 @@ class TaperedRect:
     nu: float = 0.3
     shear: bool = False
 
+    def thickness(self, fraction):
+        """Thickness (mm) at ``fraction`` of the chain (0 at its start, 1 at its end)."""
+        h1 = self.h0 if self.h1 is None else self.h1
+        return self.h0 + (h1 - self.h0) * np.asarray(fraction, dtype=float)
+
     def check(self) -> None:
         for name in ("E", "b", "h0"):
             if not (getattr(self, name) > 0.0 and math.isfinite(getattr(self, name))):

@@ -7,13 +7,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from bristlecrawler.scenario.reduced import ReducedConfig
 from bristlecrawler.reduced import closed_form as cf
 from bristlecrawler.reduced.crawler import ReducedCrawler
 from bristlecrawler.reduced.gaits import breathing, peristaltic
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import ReducedResult
 from bristlecrawler.reduced.strokes import Sin2Stroke, TriangleStroke, read_history_csv
+from bristlecrawler.scenario.reduced import ReducedConfig
 
 
 @dataclass(frozen=True)

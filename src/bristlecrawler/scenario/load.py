@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.schema import Scenario
+from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.substrate import parse_substrate
 
 
