@@ -109,3 +109,20 @@ def test_three_bristles_advance_and_every_segment_does_work():
     works = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(s, axis=0), axis=0)
     assert works.sum() == pytest.approx(h.connector_work[-1], rel=1e-12)
     assert works[1] > 0.2 * works.sum()
+
+
+def test_a_hold_after_the_stroke_records_a_crawler_at_rest():
+    """A user stage after the stroke: with the actuators at rest no work is done and the
+    crawler, standing on its bristles, stays where it is."""
+    from bristlecrawler.crawler import DEFAULT_STAGES, Hold, run
+
+    spec = dataclasses.replace(
+        _coarse(PAPER, 6),
+        actuation=Actuation(s_max=6.0, period=4.0, cycles=1),
+        contact=dataclasses.replace(PAPER.contact, nodes="tip", corners=False),
+    )
+    h = run(spec, (*DEFAULT_STAGES, Hold(1.0)))
+    hold = h.t > 4.0 + 1e-9
+    assert h.t[-1] == pytest.approx(5.0) and hold.sum() > 2
+    assert np.ptp(h.connector_work[hold]) < 1e-6 * abs(h.connector_work[-1])
+    assert np.ptp(h.delta[hold]) < 0.05  # mm

@@ -13,8 +13,8 @@ result::
   :class:`Damping`, :class:`Actuation`, :class:`Solver` (mm, N, s, t, MPa);
 * :func:`build` -> :class:`CrawlerModel` (the FE model and its node bookkeeping);
 * :func:`run` with stages :class:`Settle`, :class:`ModalDamping`, :class:`Stroke` (the
-  paper's analysis steps, the default) and a progress callback -> :class:`CrawlerHistory`
-  (``.summary()``, ``.to_dataset()``).
+  paper's analysis steps, the default; :class:`Hold` and your own stages after them)
+  and a progress callback -> :class:`CrawlerHistory` (``.summary()``, ``.to_dataset()``).
 """
 
 from bristlecrawler.crawler.history import (
@@ -28,6 +28,7 @@ from bristlecrawler.crawler.history import (
 from bristlecrawler.crawler.model import CrawlerModel, build
 from bristlecrawler.crawler.runner import (
     DEFAULT_STAGES,
+    Hold,
     ModalDamping,
     Progress,
     RunOptions,
@@ -62,6 +63,7 @@ __all__ = [
     "CrawlerModel",
     "CrawlerSpec",
     "Damping",
+    "Hold",
     "ModalDamping",
     "Progress",
     "RunOptions",

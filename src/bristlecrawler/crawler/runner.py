@@ -300,6 +300,27 @@ class Stroke:
         session.stats["stroke_newton_iterations"] = session.iterations - it0
 
 
+@dataclass(frozen=True)
+class Hold:
+    """Keep recording for ``duration`` s after the stroke with the actuators at rest (the
+    crawler settles; a user stage of the simplest kind)."""
+
+    duration: float
+    name: str = "hold"
+
+    def span(self, session: Session) -> float:
+        return self.duration
+
+    def __call__(self, session: Session) -> None:
+        if not (math.isfinite(self.duration) and self.duration > 0):
+            raise InputError(f"Hold duration must be a positive number of s, got {self.duration}")
+        if not session.records:
+            raise InputError("Hold records after the stroke: put it after Stroke()")
+        session.report(self.name)
+        t_end = float(session.state.t) + self.duration
+        session.advance(t_end, session.spec.solver.dt_max, self.name, check=True)
+
+
 DEFAULT_STAGES: tuple[Stage, ...] = (Settle(), ModalDamping(), Stroke())
 
 
