@@ -179,7 +179,7 @@ def _observe_tip(st, params):
 
 def _drive(model, state, t_end, dt, scheme, capacity, dt_min, host=False):
     """Run the compiled (or host-loop) driver to t_end in chunks of ``capacity`` steps."""
-    from bristlecrawler.fe import driver_start, make_driver, make_host_driver
+    from bristlecrawler.fe import StepControl, driver_start, make_driver, make_host_driver
 
     make = make_host_driver if host else make_driver
     run = make(model.topology, model.terms, scheme, _observe_tip, capacity)
@@ -249,7 +249,7 @@ def test_driver_check_bounds_every_accepted_step(model, host):
     """A step the check refuses is cut (status STEP_ERROR) and retried: every accepted step
     satisfies the bound, the steps are smaller than without the check, and the compiled
     and host loops take the same steps."""
-    from bristlecrawler.fe import driver_start, make_driver, make_host_driver
+    from bristlecrawler.fe import StepControl, driver_start, make_driver, make_host_driver
     from bristlecrawler.fe.status import STEP_ERROR
 
     m = model
@@ -259,7 +259,7 @@ def test_driver_check_bounds_every_accepted_step(model, host):
     runs = {}
     for use_host in (host, not host):
         make = make_host_driver if use_host else make_driver
-        run = make(m.topology, m.terms, scheme, _observe_tip, 64, 1.5, 4, _TipStepCheck(tol))
+        run = make(m.topology, m.terms, scheme, _observe_tip, 64, StepControl(), _TipStepCheck(tol))
         carry = driver_start(s0, 40.0)
         carry, buf, k, failed = run(carry, m.params, 400.0, 1e-6, 40.0)
         assert not bool(failed)
@@ -271,7 +271,7 @@ def test_driver_check_bounds_every_accepted_step(model, host):
     assert int(carry.rejected) > 0 and int(carry.cause) in (0, STEP_ERROR)
     # Without the check the same driver takes fewer, longer steps that break the bound.
     make = make_host_driver if host else make_driver
-    free = make(m.topology, m.terms, scheme, _observe_tip, 64, 1.5, 4)
+    free = make(m.topology, m.terms, scheme, _observe_tip, 64, StepControl())
     _, b2, k2, _ = free(driver_start(s0, 40.0), m.params, 400.0, 1e-6, 40.0)
     tips2 = np.concatenate([np.asarray(s0.u[-1:, :2]), np.asarray(b2["tip"][: int(k2)])])
     assert int(k2) < len(rec["t"])

@@ -74,6 +74,12 @@ class CrawlerModel:
         """Parameters of the point-contact term (its friction law, substrate, points)."""
         return self.model.params.extra[self.model.terms.index(self.contact)]
 
+    def observer(self):
+        """The jitted record of a state (:func:`record.observer`)."""
+        from bristlecrawler.crawler.record import observer
+
+        return observer(self)
+
     def node_thickness(self) -> np.ndarray:
         """Section thickness at every node, mm (0 off the bristles)."""
         out = np.zeros(self.model.params.X.shape[0])

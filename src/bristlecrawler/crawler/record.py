@@ -66,24 +66,50 @@ def observer(cm):
     return _make_observer(m.topology, m.terms, index, cm.body, cm.subtrees, cm.tip_points)
 
 
-@functools.lru_cache(maxsize=16)
-def _make_observer(topo, terms, contact_index, body, subtrees, tip_points):
+def state_terms(state, params, topo, terms, contact_index):
+    """Node positions (mm), the full residual (N, (n, 3): inertia, damping, internal,
+    contact and external forces; its sum over a free subtree is the force its support
+    applies), the contact term's history and the energies of a state (see
+    :data:`ENERGY_COLUMNS`)."""
     from bristlecrawler.fe import assembly
 
+    # Every contact term (points, and corners against faces when present) shares the law.
+    law = params.extra[contact_index].law
+    u, v, a, t = state.u, state.v, state.a, state.t
+    f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
+    f_terms = assembly.terms_residual(u, v, t, state.history, params, terms)
+    f_ext = assembly.external_force(t, 1.0, params, topo)
+    full = assembly.mass_times(a, params, topo) + damp + f_int + f_terms - f_ext
+    hist = state.history
+    pen = sum(jnp.sum(0.5 * hk.p_n**2 / law.k_n + 0.5 * hk.f_t**2 / law.k_t) for hk in hist)
+    energies = jnp.stack(
+        [
+            assembly.internal_energy(u, params, topo),
+            assembly.kinetic_energy(v, params, topo),
+            -jnp.sum(f_ext * u),
+            sum(jnp.sum(hk.dissipation) for hk in hist),
+            pen,
+            jnp.sum(v * damp),
+        ]
+    )
+    return params.X[:, :2] + u[:, :2], full, f_terms, hist[contact_index], energies
+
+
+def tip_states(h, tip_points):
+    """Each tip's contact state: slip if one of its points slips, stick if one sticks,
+    else open."""
+    return jnp.stack([jnp.max(h.state[np.asarray(ix)]) for ix in tip_points])
+
+
+@functools.lru_cache(maxsize=16)
+def _make_observer(topo, terms, contact_index, body, subtrees, tip_points):
     subs = [np.asarray(s) for s in subtrees]
     body = np.asarray(body)
 
     @jax.jit
     def observe(state, params):
         X = params.X
-        # Every contact term (points, and corners against faces when present) shares the law.
-        law = params.extra[contact_index].law
-        u, v, a, t = state.u, state.v, state.a, state.t
-        f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
-        f_terms = assembly.terms_residual(u, v, t, state.history, params, terms)
-        f_ext = assembly.external_force(t, 1.0, params, topo)
-        full = assembly.mass_times(a, params, topo) + damp + f_int + f_terms - f_ext
-        x = X[:, :2] + u[:, :2]
+        x, full, _, h, energies = state_terms(state, params, topo, terms, contact_index)
         fc, stretch = [], []
         for j, sub in enumerate(subs):
             lam = jnp.sum(full[sub, :2], axis=0)
@@ -92,26 +118,12 @@ def _make_observer(topo, terms, contact_index, body, subtrees, tip_points):
             fc.append(-jnp.dot(lam, e))
             rest = jnp.linalg.norm(X[body[j + 1], :2] - X[body[j], :2])
             stretch.append(-(jnp.linalg.norm(x[body[j + 1]] - x[body[j]]) - rest))
-        h = state.history[contact_index]
-        hist = state.history
-        pen = sum(jnp.sum(0.5 * hk.p_n**2 / law.k_n + 0.5 * hk.f_t**2 / law.k_t) for hk in hist)
-        energies = jnp.stack(
-            [
-                assembly.internal_energy(u, params, topo),
-                assembly.kinetic_energy(v, params, topo),
-                -jnp.sum(f_ext * u),
-                sum(jnp.sum(hk.dissipation) for hk in hist),
-                pen,
-                jnp.sum(v * damp),
-            ]
-        )
         return {
-            "t": t,
+            "t": state.t,
             "x": x,
             "fc": jnp.stack(fc),
             "energies": energies,
-            # A tip slips if one of its points slips, sticks if one sticks, else is open.
-            "tip_state": jnp.stack([jnp.max(h.state[np.asarray(ix)]) for ix in tip_points]),
+            "tip_state": tip_states(h, tip_points),
             "stretch": jnp.stack(stretch),
         }
 

@@ -28,7 +28,7 @@ import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build
-from bristlecrawler.crawler.record import EnergyCheck, energy_series, observer
+from bristlecrawler.crawler.record import EnergyCheck, energy_series
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError, SolverError
 
@@ -89,8 +89,9 @@ class _Failed(Exception):
 
 @dataclass
 class Session:
-    """The state a run's stages share: the crawler, its current FE model (with the
-    damping in force), dynamic state, step size, records and counters."""
+    """The state a run's stages share: the crawler (a :class:`CrawlerModel`, or any
+    object with ``model``, ``spec`` and ``observer()``: a drag test's), its current FE
+    model (with the damping in force), dynamic state, step size, records and counters."""
 
     crawler: CrawlerModel
     options: RunOptions
@@ -136,7 +137,7 @@ class Session:
         make = fe.make_host_driver if self.host else fe.make_driver
         m = self.crawler.model
         control = fe.StepControl(sv.grow, sv.easy_iterations)
-        obs = observer(self.crawler)
+        obs = self.crawler.observer()
         return make(m.topology, m.terms, ig, obs, self.options.capacity, control, energy)
 
     def advance(self, t_stop: float, dt_max: float, where: str, check: bool) -> None:
@@ -288,7 +289,7 @@ class Stroke:
         spec = session.spec
         session.report("")
         session.records.append(
-            jax.device_get(observer(session.crawler)(session.state, session.model.params))
+            jax.device_get(session.crawler.observer()(session.state, session.model.params))
         )
         chunk = self.chunk or max(spec.actuation.period / 20.0, 0.5)
         t, t_end = float(session.state.t), float(session.state.t) + self.span(session)

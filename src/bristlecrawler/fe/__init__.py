@@ -31,7 +31,7 @@ from bristlecrawler.fe.dynamics import (
 )
 from bristlecrawler.fe.modal import Modes, modes
 from bristlecrawler.fe.model import Model, Params, Topology
-from bristlecrawler.fe.motion import Constant, Ramp, Sin2, Sine, TimeFunction
+from bristlecrawler.fe.motion import Constant, Piecewise, Ramp, Sin2, Sine, TimeFunction
 from bristlecrawler.fe.newton import NewtonOptions
 from bristlecrawler.fe.static import (
     StaticOptions,
@@ -55,6 +55,7 @@ __all__ = [
     "Modes",
     "NewtonOptions",
     "Params",
+    "Piecewise",
     "Ramp",
     "Rayleigh",
     "Sin2",

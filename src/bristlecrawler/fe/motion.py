@@ -9,6 +9,7 @@ rad for rotations, 1 for load amplitudes); ``t`` is in s.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import jax.numpy as jnp
 
@@ -84,6 +85,18 @@ class Sine:
         return self.amplitude * jnp.sin(self.omega * t)
 
 
+@pytree()
+class Piecewise:
+    """Linear between the knots (``times`` s, increasing; ``values``), held at the end
+    values outside them (a carriage's path, a sampled stroke)."""
+
+    times: Any
+    values: Any
+
+    def __call__(self, t):
+        return jnp.interp(t, self.times, self.values)
+
+
 @pytree(meta=("fn",))
 class TimeFunction:
     """Any JAX-traceable ``fn(t)``; the function is static (not batched by ``vmap``)."""
@@ -96,7 +109,7 @@ class TimeFunction:
 
 def as_motion(value) -> object:
     """A number becomes :class:`Constant`; a motion is returned as is; a callable is wrapped."""
-    if isinstance(value, Constant | Sin2 | Ramp | SmoothRamp | Sine | TimeFunction):
+    if isinstance(value, Constant | Sin2 | Ramp | SmoothRamp | Sine | Piecewise | TimeFunction):
         return value
     if callable(value):
         return TimeFunction(value)
