@@ -179,7 +179,7 @@ def _observe_tip(st, params):
 
 def _drive(model, state, t_end, dt, scheme, capacity, dt_min, host=False):
     """Run the compiled (or host-loop) driver to t_end in chunks of ``capacity`` steps."""
-    from bristlecrawler.fe import StepControl, driver_start, make_driver, make_host_driver
+    from bristlecrawler.fe import driver_start, make_driver, make_host_driver
 
     make = make_host_driver if host else make_driver
     run = make(model.topology, model.terms, scheme, _observe_tip, capacity)
