@@ -1,0 +1,110 @@
+"""``bristlecrawler drag``: a virtual drag test of one bristle of a scenario."""
+
+from __future__ import annotations
+
+import shlex
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def drag_cmd(
+    scenario: Annotated[
+        str, typer.Argument(help="shipped scenario (paper, paper-vertical) or a TOML file")
+    ] = "paper",
+    direction: Annotated[
+        str,
+        typer.Option(
+            "--direction",
+            help="along (+x, the grain) | against (-x) | cycle (both, back and forth)",
+        ),
+    ] = "cycle",
+    distance: Annotated[
+        float, typer.Option("--distance", help="travel of each leg, mm (>= one pitch)")
+    ] = 20.0,
+    speed: Annotated[float, typer.Option("--speed", help="carriage speed, mm/s")] = 2.0,
+    legs: Annotated[int, typer.Option("--legs", help="legs of a cycle (>= 2)")] = 2,
+    load: Annotated[
+        float | None,
+        typer.Option("--load", help="vertical load, N [default: the bristle's weight share]"),
+    ] = None,
+    assign: Annotated[
+        list[str] | None,
+        typer.Option("--set", help="override a scenario value, section.key=value; repeatable"),
+    ] = None,
+    out: Annotated[
+        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
+    ] = None,
+    replace: Annotated[
+        bool, typer.Option("--replace", help="replace the run in --out once this one is done")
+    ] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="print the summary as JSON")] = False,
+    progress: Annotated[bool | None, typer.Option("--progress/--no-progress")] = None,
+) -> None:
+    """Drag one bristle of a scenario over its substrate: k, F_p, F_n of the reduced model.
+
+    Writes drag.nc (xarray/NetCDF), drag.png, summary.json, config.json, meta.json.
+    """
+    from bristlecrawler.crawler.drag import DragTest, quasi_static_ratio
+    from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.jobs.drag import run_drag
+    from bristlecrawler.jobs.simulate import summary_json
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import apply_overrides, load_scenario
+
+    sc = load_scenario(scenario)
+    if assign:
+        sc = apply_overrides(sc, list(assign))
+    test = DragTest(direction, distance, speed, legs, 0, load)
+    ratio = quasi_static_ratio(to_spec(sc), test)
+    if ratio > 0.05:
+        typer.echo(
+            f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
+            f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)",
+            err=True,
+        )
+    enable_compilation_cache()
+    run = run_drag(
+        sc,
+        test,
+        out=out,
+        progress=False if as_json else progress,
+        command="bristlecrawler " + shlex.join(sys.argv[1:]),
+        replace=replace,
+    )
+    if as_json:
+        typer.echo(summary_json(run.summary))
+        return
+    _print(run.summary)
+
+
+def _print(s: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title="drag test")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    rows = [
+        ("k, first loading (N/mm)", "k_N_per_mm"),
+        ("k after a reversal (N/mm)", "k_unload_N_per_mm"),
+        ("F_p, sliding along (N)", "fp_N"),
+        ("  scatter over pitches (N)", "fp_scatter_N"),
+        ("F_n, sliding against (N)", "fn_N"),
+        ("  scatter over pitches (N)", "fn_scatter_N"),
+        ("F_p / k (mm)", "fp_over_k_mm"),
+        ("mu times the load (N)", "mu_load_N"),
+        ("dissipation (mJ/mm)", "dissipation_mJ_per_mm"),
+    ]
+    for label, key in rows:
+        table.add_row(label, f"{s[key]:.4g}")
+    console = Console()
+    console.print(table)
+    if "output_dir" in s:
+        console.print(f"results in {s['output_dir']}")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("drag")(drag_cmd)

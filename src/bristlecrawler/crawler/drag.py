@@ -1,0 +1,245 @@
+"""Virtual drag tests: one bristle of a design, clamped to a carriage, dragged over the texture.
+
+The bristle (its section, inclination, material), the substrate, the contact definition,
+the friction and the damping are the design's. Its clamp hangs from a carriage that carries
+the bristle's share of the crawler's weight: the carriage moves horizontally along a
+prescribed path at a constant, quasi-static speed, is free vertically, and holds the
+clamp's rotation. After the gravity step and the modal damping of the crawler runs
+(:mod:`.runner`), the carriage is dragged along the grain (+x for alpha > 0), against it,
+or back and forth over many grooves. Each accepted step records the carriage's push
+force, the contact forces, the tip and its contact state, and the energies; the analysis
+(:mod:`.drag_analysis`) reduces them to the reduced model's parameters k, F_p and F_n.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.crawler.model import _add_contact, _drop
+from bristlecrawler.crawler.record import state_terms, tip_states
+from bristlecrawler.crawler.spec import CrawlerSpec
+from bristlecrawler.errors import InputError
+
+Direction = Literal["along", "against", "cycle"]
+
+
+@dataclass(frozen=True)
+class DragTest:
+    """What a drag test does.
+
+    Attributes:
+        direction: "along" the grain (+x), "against" it (-x), or "cycle": ``legs`` legs of
+            ``distance`` each, along, against, along, ...
+        distance: travel of each leg, mm (at least one groove pitch).
+        speed: carriage speed, mm/s (quasi-static: far below pitch times the bristle's
+            first frequency).
+        legs: number of legs of a cycle (>= 2).
+        bristle: which bristle of the design, by index.
+        load: vertical load on the bristle, N; None: its share of the crawler's weight
+            (body and bristles over the number of bristles).
+        resolution: largest carriage travel of one time step, mm (the stick phase before
+            the first slip, F_p/k ~ 0.5 mm for the paper's bristle, then has ~25 samples).
+    """
+
+    direction: Direction = "cycle"
+    distance: float = 20.0
+    speed: float = 2.0
+    legs: int = 2
+    bristle: int = 0
+    load: float | None = None
+    resolution: float = 0.02
+
+    def path(self) -> tuple[np.ndarray, np.ndarray]:
+        """Knots of the carriage's path: times from the start of the drag (s) and
+        displacements (mm)."""
+        legs = 1 if self.direction != "cycle" else self.legs
+        sign = -1.0 if self.direction == "against" else 1.0
+        x = sign * self.distance * (np.arange(legs + 1) % 2)
+        t = np.arange(legs + 1) * self.distance / self.speed
+        return t, x
+
+    @property
+    def duration(self) -> float:
+        return float(self.path()[0][-1])
+
+    def check(self, spec: CrawlerSpec) -> None:
+        if self.direction not in ("along", "against", "cycle"):
+            raise InputError(
+                f"drag direction must be along, against or cycle, got {self.direction!r}"
+            )
+        for name in ("distance", "speed", "resolution"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise InputError(f"drag {name} must be a positive finite number, got {v!r}")
+        pitch = substrate_pitch(spec)
+        if self.distance < pitch:
+            raise InputError(
+                f"drag distance {self.distance:g} mm is shorter than one groove pitch "
+                f"({pitch:g} mm): the sliding means need whole pitches"
+            )
+        if not (isinstance(self.legs, int) and self.legs >= 2):
+            raise InputError(f"a drag cycle needs legs >= 2, got {self.legs!r}")
+        if not (isinstance(self.bristle, int) and 0 <= self.bristle < len(spec.bristles)):
+            raise InputError(
+                f"drag bristle {self.bristle!r} is not one of the design's "
+                f"{len(spec.bristles)} bristles"
+            )
+        if self.load is not None and not (math.isfinite(self.load) and self.load > 0):
+            raise InputError(f"drag load must be a positive number of N, got {self.load}")
+
+
+def substrate_pitch(spec: CrawlerSpec) -> float:
+    """Period of the substrate's profile, mm (1 mm for a flat plane)."""
+    from bristlecrawler.contact.substrates import Flat
+
+    if isinstance(spec.substrate, Flat):
+        return 1.0
+    return float(spec.substrate.profile().period)
+
+
+def weight_share(spec: CrawlerSpec) -> float:
+    """The crawler's weight on one bristle, N."""
+    mass = spec.body.mass + sum(b.mass for b in spec.bristles)
+    return mass * spec.gravity / len(spec.bristles)
+
+
+def first_frequency_estimate(spec: CrawlerSpec, index: int = 0) -> float:
+    """First bending frequency of the clamped bristle, Hz: the uniform cantilever's
+    1.875^2 sqrt(EI / (rho A L^4)) with the mean thickness (an estimate for the speed check)."""
+    b = spec.bristles[index]
+    h = 0.5 * (b.thickness_clamp + b.thickness_tip)
+    ei = b.youngs_modulus * b.width * h**3 / 12.0
+    rho_a = b.density * b.width * h
+    return 1.875**2 * math.sqrt(ei / (rho_a * b.length**4)) / (2.0 * math.pi)
+
+
+def quasi_static_ratio(spec: CrawlerSpec, test: DragTest) -> float:
+    """Time of the bristle's first period over the time to cross one pitch (small:
+    quasi-static)."""
+    return test.speed / (substrate_pitch(spec) * first_frequency_estimate(spec, test.bristle))
+
+
+@dataclass(frozen=True)
+class DragModel:
+    """A built drag test: the FE model (carriage, bristle, substrate) and its bookkeeping.
+    ``spec`` is a one-bristle view of the design (the runner's stages read its damping,
+    actuation.settle_time, solver and contact)."""
+
+    model: object
+    spec: CrawlerSpec
+    test: DragTest
+    clamp: int
+    chain: tuple[int, ...]
+    contact: object
+    tip_points: tuple[tuple[int, ...], ...]
+    load: float
+
+    def observer(self):
+        m = self.model
+        index = m.terms.index(self.contact)
+        return _make_drag_observer(m.topology, m.terms, index, self.clamp, self.tip_points)
+
+
+def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
+    """Check the design and the test (one-line :class:`InputError`) and build the model."""
+    from bristlecrawler import fe
+
+    test = test or DragTest()
+    spec.check()
+    test.check(spec)
+    b = dataclasses.replace(spec.bristles[test.bristle], position=0.0)
+    load = test.load or weight_share(spec)
+    # The bristle's penalties are sized for the crawler's weight share (as in the crawler).
+    contact = dataclasses.replace(
+        spec.contact, penalty_load=spec.contact.penalty_load or weight_share(spec)
+    )
+    one = dataclasses.replace(spec, bristles=(b,), contact=contact)
+    s = fe.Structure()
+    drop, tip_y = _drop(b, contact)
+    clamp = s.node(0.0, drop)
+    if spec.gravity > 0:
+        s.point_mass(clamp, load / spec.gravity)
+    t, x = test.path()
+    settle = spec.actuation.settle_time
+    s.prescribe(clamp, "x", fe.Piecewise(jnp.asarray(t + settle), jnp.asarray(x)))
+    s.fix(clamp, "theta")
+    chain = tuple(s.chain(clamp, (-b.length * math.sin(b.alpha), tip_y), b.elements, b.section()))
+    s.gravity(0.0, -spec.gravity)
+    s.stiffness_damping(spec.damping.stiffness_proportional)
+    term, _, tip_points = _add_contact(s, one, [chain])
+    return DragModel(s.build(), one, test, clamp, chain, term, tip_points, load)
+
+
+@functools.lru_cache(maxsize=8)
+def _make_drag_observer(topo, terms, contact_index, clamp, tip_points):
+    @jax.jit
+    def observe(state, params):
+        x, full, f_terms, h, energies = state_terms(state, params, topo, terms, contact_index)
+        push = jnp.sum(full[:, :2], axis=0)  # what the carriage applies to the bristle
+        on_bristle = -jnp.sum(f_terms[:, :2], axis=0)  # what the substrate applies
+        return {
+            "t": state.t,
+            "x": x,
+            # The energy check's connector: the carriage's push along its own travel.
+            "fc": push[:1],
+            "stretch": state.u[clamp, :1],
+            "lift": state.u[clamp, 1],
+            "contact": on_bristle,
+            "energies": energies,
+            "tip_state": tip_states(h, tip_points),
+        }
+
+    return observe
+
+
+@dataclass(frozen=True)
+class DragStage:
+    """Drag the carriage along the test's path, recorded step by step with steps of at
+    most ``resolution`` mm of travel (in chunks of a twentieth of the path, so that
+    progress moves)."""
+
+    name: str = "drag"
+
+    def span(self, session) -> float:
+        return session.crawler.test.duration
+
+    def __call__(self, session) -> None:
+        session.report("")
+        session.records.append(
+            jax.device_get(session.crawler.observer()(session.state, session.model.params))
+        )
+        t0 = float(session.state.t)
+        t_end = t0 + self.span(session)
+        chunk = max(self.span(session) / 20.0, 0.5)
+        t = t0
+        test = session.crawler.test
+        dt_max = min(session.spec.solver.dt_max, test.resolution / test.speed)
+        while t < t_end - 1e-9:
+            session.advance(min(t + chunk, t_end), dt_max, "drag", check=True)
+            t = float(session.state.t)
+
+
+def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, on_progress=None):
+    """Run a drag test of ``spec``'s bristle and return its :class:`DragResult`."""
+    import time
+
+    from bristlecrawler.crawler.drag_analysis import result_of
+    from bristlecrawler.crawler.runner import ModalDamping, RunOptions, Session, Settle
+
+    wall0 = time.perf_counter()
+    dm = build_drag(spec, test)
+    session = Session(dm, options or RunOptions(), on_progress, t_end=0.0)
+    stages = (Settle(), ModalDamping(), DragStage())
+    session.t_end = sum(s.span(session) for s in stages)
+    for stage in stages:
+        stage(session)
+    session.stats["wall_time_s"] = time.perf_counter() - wall0
+    return result_of(session)

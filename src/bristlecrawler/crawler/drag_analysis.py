@@ -1,0 +1,251 @@
+"""A drag test's record and the reduced-model parameters read from it.
+
+* k: the slope of the carriage force against its travel on the first loading, before
+  the tip first slips; and after each reversal, before it slips again (unloading).
+* F_p, F_n: the mean horizontal force while sliding along and against the grain, as the
+  work over whole pitches divided by their length (so the snaps over the grooves count
+  with their weight), with the pitch-to-pitch scatter and the peaks.
+* the dissipated work per mm of drag (friction and damping).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from bristlecrawler.crawler.record import energy_series
+from bristlecrawler.states import ContactState
+
+
+@dataclass(frozen=True)
+class Sliding:
+    """Sliding in one direction: the mean force (N, magnitude), its pitch-to-pitch
+    standard deviation and range, the peak magnitude, and the pitches it was read over."""
+
+    mean: float
+    scatter: float
+    low: float
+    high: float
+    peak: float
+    pitches: int
+
+
+@dataclass(frozen=True)
+class DragResult:
+    """Time series of a drag test (index m) and what they give.
+
+    Attributes:
+        t: s from the start of the drag. x: carriage displacement, mm. lift: carriage
+            vertical displacement, mm. force_x: horizontal force the carriage applies, N
+            (+x). contact: force of the substrate on the bristle (x, y), N, (M, 2).
+        tip: tip position, mm, (M, 2). tip_state: :class:`ContactState` of the tip.
+        energies: series in mJ (elastic, kinetic, potential, friction, damping, external).
+        pitch: groove pitch, mm. load: vertical load on the bristle, N. mu: friction
+        coefficient. legs: (start, end) sample indices of each leg, with its direction
+        (+1 along, -1 against). stats: counters of the solve.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    lift: np.ndarray
+    force_x: np.ndarray
+    contact: np.ndarray
+    tip: np.ndarray
+    tip_state: np.ndarray
+    energies: dict
+    pitch: float
+    load: float
+    mu: float
+    legs: tuple[tuple[int, int, int], ...]
+    frame_nodes: np.ndarray = field(repr=False, default=None)
+    stats: dict = field(default_factory=dict)
+
+    # -- the reduced model's parameters ----------------------------------------------------
+    def first_slip(self, leg: int) -> int | None:
+        """Index of the first sample of leg ``leg`` at which the tip slips."""
+        a, b, _ = self.legs[leg]
+        slips = np.flatnonzero(self.tip_state[a : b + 1] == ContactState.SLIP)
+        return None if slips.size == 0 else a + int(slips[0])
+
+    def stick_slope(self, leg: int = 0) -> float:
+        """dF/dx (N/mm) over the leg's stick phase (from a tenth of the way to the first
+        slip up to it; least squares), or NaN when the tip never sticks there."""
+        a, _, _ = self.legs[leg]
+        k = self.first_slip(leg)
+        if k is None or k - a < 4:
+            return math.nan
+        x, f = self.x[a:k], self.force_x[a:k]
+        keep = np.abs(x - x[0]) >= 0.1 * abs(x[-1] - x[0])
+        if keep.sum() < 3:
+            return math.nan
+        return float(np.polyfit(x[keep], f[keep], 1)[0])
+
+    def sliding(self, direction: int) -> Sliding | None:
+        """The sliding force of the legs in ``direction`` (+1 along, -1 against), over the
+        whole pitches after each leg's first slip; None without a whole pitch."""
+        means, peaks = [], []
+        for leg, (_, b, d) in enumerate(self.legs):
+            k = self.first_slip(leg)
+            if d != direction or k is None:
+                continue
+            x, f = self.x[k : b + 1], self.force_x[k : b + 1]
+            n = int(abs(x[-1] - x[0]) // self.pitch)
+            for j in range(n):
+                lo = x[0] + d * j * self.pitch
+                means.append(_mean_over(x, f, lo, lo + d * self.pitch))
+            if n:
+                peaks.append(float(np.max(np.abs(f))))
+        if not means:
+            return None
+        m = np.abs(np.asarray(means))
+        return Sliding(
+            float(m.mean()),
+            float(m.std()),
+            float(m.min()),
+            float(m.max()),
+            float(max(peaks)),
+            len(m),
+        )
+
+    def dissipation_per_mm(self) -> float:
+        """Friction and damping dissipation over the carriage's whole travel, mJ/mm."""
+        travel = float(np.sum(np.abs(np.diff(self.x))))
+        lost = self.energies["friction"][-1] + self.energies["damping"][-1]
+        return float(lost / max(travel, 1e-300))
+
+    def summary(self) -> dict:
+        """The parameters (units in the keys; NaN where the test does not give one)."""
+        nan = math.nan
+        along, against = self.sliding(+1), self.sliding(-1)
+        unload = [self.stick_slope(i) for i in range(1, len(self.legs))]
+        unload = [v for v in unload if math.isfinite(v)]
+
+        def part(s: Sliding | None, name: str) -> dict:
+            if s is None:
+                return {f"{name}_N": nan, f"{name}_scatter_N": nan, f"{name}_peak_N": nan}
+            return {
+                f"{name}_N": s.mean,
+                f"{name}_scatter_N": s.scatter,
+                f"{name}_range_N": [s.low, s.high],
+                f"{name}_peak_N": s.peak,
+                f"{name}_pitches": s.pitches,
+            }
+
+        fp = along.mean if along else nan
+        k = self.stick_slope(0)
+        return {
+            "k_N_per_mm": k,
+            "k_unload_N_per_mm": float(np.mean(unload)) if unload else nan,
+            **part(along, "fp"),
+            **part(against, "fn"),
+            "fp_over_k_mm": fp / k if k and math.isfinite(k) else nan,
+            "mu_load_N": self.mu * self.load,
+            "load_N": self.load,
+            "dissipation_mJ_per_mm": self.dissipation_per_mm(),
+            "energy_balance_rel_error": self.energy_balance_rel_error(),
+            "steps": int(self.stats.get("steps", self.t.size - 1)),
+            "newton_iterations": int(self.stats.get("newton_iterations", 0)),
+            "wall_time_s": float(self.stats.get("wall_time_s", nan)),
+        }
+
+    def energy_balance_rel_error(self) -> float:
+        e = self.energies
+        r = e["external"] - sum(e[k] for k in ("elastic", "kinetic", "potential"))
+        r = r - e["friction"] - e["damping"]
+        return float(np.max(np.abs(r)) / max(float(np.max(np.abs(e["external"]))), 1e-300))
+
+    def to_dataset(self, attrs: dict | None = None):
+        """The series as an xarray Dataset (dims time, xy)."""
+        import xarray as xr
+
+        flags = np.array([0, 1, 2], np.int8)
+        ds = xr.Dataset(
+            {
+                "carriage_x": ("time", self.x, {"units": "mm", "long_name": "carriage travel"}),
+                "carriage_lift": ("time", self.lift, {"units": "mm", "long_name": "carriage rise"}),
+                "force_x": (
+                    "time",
+                    self.force_x,
+                    {"units": "N", "long_name": "horizontal force of the carriage (+x)"},
+                ),
+                "contact_force": (
+                    ("time", "xy"),
+                    self.contact,
+                    {"units": "N", "long_name": "substrate force on the bristle"},
+                ),
+                "tip_position": (("time", "xy"), self.tip, {"units": "mm"}),
+                "tip_state": (
+                    "time",
+                    self.tip_state.astype(np.int8),
+                    {"flag_values": flags, "flag_meanings": "open stick slip"},
+                ),
+                **{f"energy_{k}": ("time", v, {"units": "mJ"}) for k, v in self.energies.items()},
+            },
+            coords={"time": ("time", self.t, {"units": "s"}), "xy": ["x", "y"]},
+            attrs={
+                "model": "bristlecrawler drag test",
+                "pitch_mm": self.pitch,
+                "load_N": self.load,
+                "mu": self.mu,
+            },
+        )
+        clean = {k: v for k, v in self.summary().items() if isinstance(v, int | float)}
+        ds.attrs.update(clean | (attrs or {}))
+        return ds
+
+
+def _mean_over(x, f, lo, hi) -> float:
+    """Mean of f over x in [lo, hi] (either order), weighted by x (the work over the
+    interval divided by its length), with the end values interpolated."""
+    a, b = min(lo, hi), max(lo, hi)
+    order = np.argsort(x)
+    xs, fs = x[order], f[order]
+    inner = (xs > a) & (xs < b)
+    xx = np.concatenate([[a], xs[inner], [b]])
+    ff = np.concatenate([[np.interp(a, xs, fs)], fs[inner], [np.interp(b, xs, fs)]])
+    return float(np.trapezoid(ff, xx) / (b - a))
+
+
+def result_of(session) -> DragResult:
+    """The :class:`DragResult` of a drag session's records."""
+    from bristlecrawler.crawler.drag import substrate_pitch
+
+    dm, records = session.crawler, session.records
+    settle = dm.spec.actuation.settle_time
+    t = np.array([float(r["t"]) for r in records]) - settle
+    x = np.array([float(r["stretch"][0]) for r in records])
+    fx = np.array([float(r["fc"][0]) for r in records])
+    en = np.stack([np.asarray(r["energies"]) for r in records])
+    nodes = np.stack([np.asarray(r["x"]) for r in records])
+    knots_t, knots_x = dm.test.path()
+    edges = np.searchsorted(t, knots_t - 1e-9)
+    edges[-1] = t.size - 1
+    legs = tuple(
+        (int(edges[i]), int(edges[i + 1]), int(np.sign(knots_x[i + 1] - knots_x[i])))
+        for i in range(len(knots_t) - 1)
+    )
+    stats = {
+        "steps": len(records) - 1,
+        "newton_iterations": session.iterations,
+        "rejected_steps": session.rejected,
+        "first_frequency_hz": session.omega1 / (2 * math.pi),
+        **session.stats,
+    }
+    return DragResult(
+        t=t,
+        x=x,
+        lift=np.array([float(r["lift"]) for r in records]),
+        force_x=fx,
+        contact=np.stack([np.asarray(r["contact"]) for r in records]),
+        tip=nodes[:, dm.chain[-1]],
+        tip_state=np.array([int(np.asarray(r["tip_state"])[0]) for r in records]),
+        energies=energy_series(t, fx, x, en),
+        pitch=substrate_pitch(dm.spec),
+        load=dm.load,
+        mu=dm.spec.contact.mu,
+        legs=legs,
+        frame_nodes=nodes,
+        stats=stats,
+    )

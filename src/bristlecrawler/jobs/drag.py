@@ -1,0 +1,74 @@
+"""The ``bristlecrawler drag`` job: a virtual drag test of a scenario's bristle.
+
+Output folder (``runs/<timestamp>-drag-<name>`` unless given): ``config.json`` (the
+resolved scenario and the test), ``meta.json``, ``drag.nc`` (the series, xarray/NetCDF),
+``drag.png`` (force against carriage travel, the sliding means marked) and
+``summary.json`` (k, F_p, F_n with their scatter and peaks, dissipation per mm).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+
+@dataclass(frozen=True)
+class DragRun:
+    """A finished drag test: its result, summary and output folder."""
+
+    result: Any
+    summary: dict[str, Any]
+    out_dir: Path | None
+
+
+def solve_drag(spec, test, progress: bool | None = None):
+    """Run the drag test with a progress bar on stderr (None: when it is a terminal)."""
+    from bristlecrawler.crawler.drag import drag_test
+    from bristlecrawler.viz.progress import sim_progress
+
+    t_end = spec.actuation.settle_time + test.duration
+    with sim_progress(t_end, "drag test", progress) as bar:
+
+        def show(p):
+            bar.update(p.t, stage=p.stage, steps=p.steps, iters=p.iterations)
+
+        return drag_test(spec, test, on_progress=show)
+
+
+def run_drag(
+    sc,
+    test,
+    out: str | Path | None = None,
+    write: bool = True,
+    progress: bool | None = None,
+    command: str = "",
+    replace: bool = False,
+) -> DragRun:
+    """Run the drag test of scenario ``sc``; with ``write``, put the results in ``out``."""
+    from bristlecrawler.crawler.drag import build_drag
+    from bristlecrawler.scenario.convert import to_spec
+
+    spec = to_spec(sc)
+    build_drag(spec, test)  # the test's checks, before any folder is claimed
+    if not write:
+        r = solve_drag(spec, test, progress)
+        return DragRun(r, r.summary(), None)
+
+    from bristlecrawler.io.netcdf import write_netcdf
+    from bristlecrawler.io.runs import claim_run_dir
+
+    with claim_run_dir(out, f"drag-{sc.name}", replace=replace, command=command) as run:
+        r = solve_drag(spec, test, progress)
+        config = {"scenario": sc.model_dump(mode="json"), "drag": dataclasses.asdict(test)}
+        run.write_metadata(config, command)
+        write_netcdf(r.to_dataset(), run.path / "drag.nc")
+        run.results_written("drag.nc")
+        from bristlecrawler.viz.drag import plot_drag
+        from bristlecrawler.viz.reduced import save_figure
+
+        save_figure(plot_drag(r, title=f"{sc.name}: drag test"), run.path / "drag.png")
+        summary = r.summary() | {"output_dir": str(run.target)}
+        run.write_json("summary.json", summary)
+    return DragRun(r, summary, run.target)

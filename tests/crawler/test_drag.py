@@ -1,0 +1,99 @@
+"""Virtual drag tests against the physics they must obey (short, coarse runs)."""
+
+import dataclasses
+import functools
+
+import numpy as np
+import pytest
+
+from bristlecrawler.contact.substrates import Flat
+from bristlecrawler.crawler import CrawlerSpec
+from bristlecrawler.crawler.drag import DragTest, build_drag, drag_test, quasi_static_ratio
+from bristlecrawler.errors import InputError
+from bristlecrawler.verification.references import inclined_horizontal_stiffness
+
+PAPER = CrawlerSpec.paper()
+
+
+def _coarse(spec, **contact):
+    c = dataclasses.replace(spec.contact, nodes="tip", corners=False, **contact)
+    return dataclasses.replace(spec.replace_bristles(elements=6), contact=c)
+
+
+@functools.cache
+def _flat():
+    """A shear-free bristle with its axis point on a flat, very rough plane under a light
+    load: a long stick phase at small deflection, then steady sliding."""
+    spec = _coarse(PAPER, surface=False, mu=2.0).replace_bristles(elements=6, shear=False)
+    spec = dataclasses.replace(spec, substrate=Flat())
+    return spec, drag_test(spec, DragTest(direction="along", distance=1.5, load=0.02))
+
+
+@functools.cache
+def _grooves():
+    spec = _coarse(PAPER)
+    return spec, drag_test(spec, DragTest(direction="along", distance=6.0, speed=2.0))
+
+
+def test_sliding_on_a_flat_plane_takes_mu_times_the_normal_load():
+    spec, r = _flat()
+    k = r.first_slip(0)
+    assert k is not None
+    slide = slice(k + 2, None)
+    normal = r.contact[slide, 1]
+    # Coulomb: the drive pulls the bristle against mu times what presses it down.
+    np.testing.assert_allclose(r.force_x[slide], 2.0 * normal, rtol=2e-3)
+    weight = 0.02 + spec.bristles[0].mass * spec.gravity
+    assert r.sliding(+1).mean == pytest.approx(2.0 * weight, rel=1e-2)
+
+
+def test_the_first_loading_slope_is_the_bristles_closed_form_stiffness():
+    """Tip held by friction, carriage free vertically under a constant load: the slope is
+    1 / C_xx of the tapered cantilever (axial and bending compliance, no shear)."""
+    spec, r = _flat()
+    b = spec.bristles[0]
+    k = inclined_horizontal_stiffness(
+        b.youngs_modulus, b.width, b.thickness_clamp, b.thickness_tip, b.length, b.alpha
+    )
+    assert r.stick_slope(0) == pytest.approx(k, rel=0.02)
+
+
+def test_the_work_of_the_drive_over_whole_pitches_is_what_they_dissipate():
+    """Over whole pitches of steady sliding the elastic energy comes back to its value,
+    so the drive's work (the integral of its force) is the friction and damping loss."""
+    spec, r = _grooves()
+    k = r.first_slip(0)
+    x0 = r.x[k]
+    x1 = x0 + r.pitch * int((r.x[-1] - x0) // r.pitch)
+    i0, i1 = (int(np.searchsorted(r.x, v)) for v in (x0, x1))
+    work = np.trapezoid(r.force_x[i0 : i1 + 1], r.x[i0 : i1 + 1])
+    lost = sum(r.energies[n][i1] - r.energies[n][i0] for n in ("friction", "damping"))
+    stored = sum(r.energies[n][i1] - r.energies[n][i0] for n in ("elastic", "kinetic", "potential"))
+    assert work == pytest.approx(lost + stored, rel=0.02)
+    assert abs(stored) < 0.2 * lost
+    assert r.energy_balance_rel_error() < 0.05
+    # Sliding along the grain needs about mu times the load, more over the grooves' edges.
+    s = r.sliding(+1)
+    assert s.pitches >= 2 and 0.5 * r.mu * r.load < s.mean < 3.0 * r.mu * r.load
+    assert s.peak >= s.high >= s.mean >= s.low > 0
+
+
+@pytest.mark.parametrize(
+    ("test", "words"),
+    [
+        (DragTest(distance=1.0), "shorter than one groove pitch"),
+        (DragTest(direction="sideways"), "direction"),
+        (DragTest(speed=0.0), "speed"),
+        (DragTest(legs=1), "legs"),
+        (DragTest(bristle=2), "bristle 2"),
+        (DragTest(load=-1.0), "load"),
+    ],
+)
+def test_bad_drag_tests_are_refused_before_any_work(test, words):
+    with pytest.raises(InputError, match=words):
+        build_drag(PAPER, test)
+
+
+def test_the_paper_speed_is_quasi_static_for_the_bristle():
+    assert quasi_static_ratio(PAPER, DragTest()) < 0.01
+    assert quasi_static_ratio(PAPER, DragTest(speed=500.0)) > 0.5
