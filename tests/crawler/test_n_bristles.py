@@ -3,6 +3,7 @@
 import dataclasses
 import importlib.util
 import pathlib
+import sys
 
 import numpy as np
 import pytest
@@ -84,6 +85,7 @@ def _example():
     path = pathlib.Path(__file__).parents[2] / "examples" / "n_bristle_crawler.py"
     spec = importlib.util.spec_from_file_location("n_bristle_crawler", path)
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up
     spec.loader.exec_module(module)
     return module
 
