@@ -33,12 +33,13 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import experiment, reduced, simulate, verify
+    from bristlecrawler.cli import experiment, reduced, scenario, simulate, verify
 
     reduced.register(app)
     experiment.register(app)
     verify.register(app)
     simulate.register(app)
+    scenario.register(app)
 
 
 _register()
