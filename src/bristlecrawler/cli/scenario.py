@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 
@@ -14,28 +14,6 @@ scenario_app = typer.Typer(
     add_completion=False,
     rich_markup_mode=None,
 )
-
-
-def to_toml(data: dict[str, Any]) -> str:
-    """A resolved scenario (``Scenario.model_dump()``) as TOML text that loads back to the
-    same scenario. A key whose value is null (not set) is written as a comment."""
-    from bristlecrawler.scenario.keys import toml_value
-
-    lines: list[str] = []
-    tables = {k: v for k, v in data.items() if isinstance(v, dict)}
-    for key, value in data.items():
-        if key not in tables:
-            lines.append(_line(key, value, toml_value))
-    for name, table in tables.items():
-        lines += ["", f"[{name}]"]
-        lines += [_line(key, value, toml_value) for key, value in table.items()]
-    return "\n".join(lines) + "\n"
-
-
-def _line(key: str, value: Any, fmt) -> str:
-    if value is None:
-        return f"# {key} = (not set)"
-    return f"{key} = {fmt(value)}"
 
 
 @scenario_app.command("list")
@@ -69,7 +47,9 @@ def show_cmd(
 
     sc = load_scenario(scenario)  # checks the file (and its base) first
     if resolved:
-        typer.echo(to_toml(sc.model_dump()), nl=False)
+        from bristlecrawler.scenario.keys import scenario_toml
+
+        typer.echo(scenario_toml(sc), nl=False)
     elif Path(scenario).is_file():
         typer.echo(Path(scenario).read_text(encoding="utf-8"), nl=False)
     else:
@@ -123,7 +103,6 @@ def keys_cmd(
 
 def _short(text: str, n: int = 24) -> str:
     return text if len(text) <= n else text[: n - 3] + '..."'
-
 
 
 def register(app: typer.Typer) -> None:

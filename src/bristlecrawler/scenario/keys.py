@@ -216,7 +216,7 @@ def keys_markdown(keys: list[Key] | None = None) -> str:
     for k in keys:
         head = k.key.split(".")[0] if "." in k.key else "top level"
         if k.kind:
-            head = f"substrate, kind = \"{k.kind}\""
+            head = f'substrate, kind = "{k.kind}"'
         if head != section:
             section = head
             title = f"`[{head}]`" if "." in k.key and not k.kind else head
@@ -236,3 +236,24 @@ def keys_markdown(keys: list[Key] | None = None) -> str:
         meaning = k.meaning.replace("|", "\\|")
         out.append(f"| `{name}` | {typ} | {k.unit} | {default} | {paper} | {meaning} |")
     return "\n".join(out).lstrip("\n") + "\n"
+
+
+def scenario_toml(scenario: Scenario) -> str:
+    """A scenario as TOML text with every key, which loads back to the same scenario (a
+    key without a value, ``null``, is written as a comment)."""
+    data = scenario.model_dump()
+    lines: list[str] = []
+    tables = {k: v for k, v in data.items() if isinstance(v, dict)}
+    for key, value in data.items():
+        if key not in tables:
+            lines.append(_toml_line(key, value))
+    for name, table in tables.items():
+        lines += ["", f"[{name}]"]
+        lines += [_toml_line(key, value) for key, value in table.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _toml_line(key: str, value: Any) -> str:
+    if value is None:
+        return f"# {key} = (not set)"
+    return f"{key} = {toml_value(value)}"

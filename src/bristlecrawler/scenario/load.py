@@ -37,7 +37,8 @@ def shipped_scenario_text(name: str) -> str:
     """The TOML text of a shipped scenario, comments included."""
     names = available_scenarios()
     if name not in names:
-        raise InputError(f"unknown scenario '{name}' (shipped: {', '.join(names)}; or a .toml file)")
+        shipped = ", ".join(names)
+        raise InputError(f"unknown scenario '{name}' (shipped: {shipped}; or a .toml file)")
     resource = resources.files("bristlecrawler") / "scenarios" / f"{name}.toml"
     return resource.read_text(encoding="utf-8")
 

@@ -170,9 +170,7 @@ class OutputConfig(_Section):
         40, ge=2, le=100_000, description="frames per cycle saved in crawler.nc and the VTK series"
     )
     vtk: bool = Field(True, description="write the ParaView series vtk/crawler.pvd")
-    figures: bool = Field(
-        True, description="write delta_vs_s.png, shapes.png and connector.png"
-    )
+    figures: bool = Field(True, description="write delta_vs_s.png, shapes.png and connector.png")
     animation: bool = Field(
         True, description="write crawler.gif (and crawler.mp4 with the `video` extra)"
     )
@@ -242,9 +240,7 @@ class ContactConfig(_Section):
 class Scenario(_Section):
     """A complete finite-element crawler scenario."""
 
-    name: str = Field(
-        "custom", description="name of the scenario, used in the run folder's name"
-    )
+    name: str = Field("custom", description="name of the scenario, used in the run folder's name")
     description: str = Field("", description="one line on what the scenario is")
     body: BodyConfig = BodyConfig()
     bristle: BristleConfig = BristleConfig()
