@@ -28,7 +28,9 @@ def reduced_cmd(
     fp: Annotated[
         float,
         typer.Option(
-            "--fp", help="F_p, resistance along the grain, N", show_default=f"{PAPER_FP:.6g}"
+            "--fp",
+            help=f"F_p, resistance along the grain, N [default: {PAPER_FP:.6g}]",
+            show_default=False,
         ),
     ] = PAPER_FP,
     fn: Annotated[
