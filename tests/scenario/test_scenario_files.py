@@ -116,3 +116,26 @@ def test_keys_markdown_has_a_row_per_key(run_cli):
     rows = [line for line in out.splitlines() if line.startswith("| `")]
     assert len(rows) == len(scenario_keys())
     assert "| `fillet_top` | float | mm | `0.0` | **`0.02`** |" in out
+
+
+def test_a_folder_named_like_a_shipped_scenario_does_not_hide_it(tmp_path, monkeypatch):
+    """`simulate paper --out paper`, then `simulate paper` again: the run folder is not a
+    scenario file."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "paper").mkdir()
+    assert load_scenario("paper").name == "paper"
+
+
+def test_set_substrate_kind_starts_that_table_afresh():
+    from bristlecrawler.jobs.simulate import apply_overrides
+
+    paper = load_scenario("paper")
+    sc = apply_overrides(
+        paper, ["substrate.kind=sawtooth", "substrate.pitch=2.5", "substrate.height=0.3"]
+    )
+    assert (sc.substrate.kind, sc.substrate.pitch, sc.substrate.height) == ("sawtooth", 2.5, 0.3)
+    assert sc.substrate.mu == paper.substrate.mu
+    with pytest.raises(InputError, match="substrate.pitch"):
+        apply_overrides(paper, ["substrate.kind=sawtooth", "substrate.height=0.3"])
+    with pytest.raises(InputError, match="widht"):
+        apply_overrides(paper, ["substrate.widht=0.3"])

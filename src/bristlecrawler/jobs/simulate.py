@@ -54,18 +54,24 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
 
 def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
     """The scenario with ``{"section.key": value}`` set (Python values, e.g. a path as
-    it is) and re-validated; an unknown key or a bad value raises a one-line InputError."""
+    it is) and re-validated; an unknown key or a bad value raises a one-line InputError.
+    Setting ``substrate.kind`` to another kind starts that table afresh (its ``mu`` kept),
+    so the new kind's keys follow it."""
     from bristlecrawler.scenario.load import scenario_from_dict
 
     data = sc.model_dump()
     for key, value in values.items():
         *path, last = key.split(".")
+        if path == ["substrate"] and last == "kind" and value != data["substrate"]["kind"]:
+            # Another kind of texture: none of the old kind's keys apply (its mu does).
+            data["substrate"] = {"kind": value, "mu": data["substrate"]["mu"]}
+            continue
         node = data
         for part in path:
             if not isinstance(node.get(part), dict):
                 raise InputError(f"--set {key}: unknown section {part!r}")
             node = node[part]
-        if last not in node:
+        if last not in node and path != ["substrate"]:  # the substrate's kind checks its keys
             raise InputError(f"--set {key}: unknown parameter {last!r}")
         node[last] = value
     return scenario_from_dict(data, "scenario (with --set)")

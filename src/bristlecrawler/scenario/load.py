@@ -54,7 +54,8 @@ def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenar
 
 
 def _is_path(text: str) -> bool:
-    return text.endswith(".toml") or os.sep in text or Path(text).exists()
+    # A folder named like a shipped scenario (a run's --out paper) is not a scenario file.
+    return text.endswith(".toml") or os.sep in text or Path(text).is_file()
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
