@@ -5,7 +5,7 @@ import shlex
 
 import pytest
 
-from tests.docs.markdown import ROOT, blocks, shell_commands
+from .pages import ROOT, blocks, shell_commands
 
 PYTHON = blocks("python")
 SHELL = blocks("bash")
@@ -50,14 +50,12 @@ def _remaining(ctx) -> list[str]:
 def test_the_parser_refuses_what_the_cli_refuses():
     with pytest.raises(Exception, match="--no-such"):
         parse_cli(["simulate", "paper", "--no-such-option"])
-    with pytest.raises(Exception, match="(?i)no such command"):
+    with pytest.raises(Exception, match=r"(?i)no such command"):
         parse_cli(["simulat", "paper"])
     parse_cli(["simulate", "paper", "--cycles", "1", "--set", "bristle.elements=4"])
 
 
-COMMANDS = [
-    (page, cmd) for page, _, code in SHELL for cmd in shell_commands(code)
-]
+COMMANDS = [(page, cmd) for page, _, code in SHELL for cmd in shell_commands(code)]
 
 
 @pytest.mark.parametrize("page, command", COMMANDS, ids=[f"{p}: {c}" for p, c in COMMANDS])
@@ -133,5 +131,3 @@ def test_docs_do_not_tell_development_history():
     for page in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
         for n, line in enumerate(page.read_text().splitlines(), 1):
             assert not pattern.search(line), f"{page.name}:{n}: {line}"
-
-

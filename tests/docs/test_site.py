@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from tests.docs.markdown import ROOT
+from .pages import ROOT
 
 
 def _require_mkdocs():

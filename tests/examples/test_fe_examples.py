@@ -71,3 +71,12 @@ def test_texture_example_the_pitch_reaches_the_model():
     assert all(ex.work_mJ[p] > 0.0 for p in ex.PITCHES_MM)
     # another texture, another gait: the substrate's parameters are not ignored
     assert np.ptp(adv) > 1e-2
+
+
+def test_outputs_reference_lists_every_variable_of_crawler_nc(run_scenario):
+    from bristlecrawler.io.crawler_dataset import crawler_dataset
+
+    text = (EXAMPLES.parent / "docs" / "reference" / "outputs.md").read_text()
+    ds = crawler_dataset(run_scenario.runs[45.0])
+    for name in [*ds.data_vars, *ds.coords]:
+        assert f"`{name}`" in text, name
