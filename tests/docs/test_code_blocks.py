@@ -131,3 +131,14 @@ def test_docs_do_not_tell_development_history():
     for page in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
         for n, line in enumerate(page.read_text().splitlines(), 1):
             assert not pattern.search(line), f"{page.name}:{n}: {line}"
+
+
+def test_readme_links_point_to_files_that_exist():
+    import re
+
+    readme = (ROOT / "README.md").read_text()
+    links = re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", readme)
+    local = [link for link in links if not link.startswith(("http://", "https://"))]
+    assert local
+    for link in local:
+        assert (ROOT / link).exists(), link

@@ -164,6 +164,10 @@ def run_simulation(
     from bristlecrawler.scenario.keys import scenario_toml
 
     out_dir = prepare_run_dir(out, f"simulate-{sc.name}")
+    if progress is not False:  # drawing the figures and the animation takes a while
+        import sys
+
+        print(f"crawler: writing results to {out_dir}", file=sys.stderr, flush=True)
     config = sc.model_dump(mode="json")
     info = write_run_metadata(out_dir, config, command)
     keep = frame_subset(h, sc.output.frames_per_cycle)
