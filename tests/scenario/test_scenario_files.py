@@ -135,7 +135,25 @@ def test_set_substrate_kind_starts_that_table_afresh():
     )
     assert (sc.substrate.kind, sc.substrate.pitch, sc.substrate.height) == ("sawtooth", 2.5, 0.3)
     assert sc.substrate.mu == paper.substrate.mu
-    with pytest.raises(InputError, match="substrate.pitch"):
+    with pytest.raises(InputError, match=r"substrate\.pitch"):
         apply_overrides(paper, ["substrate.kind=sawtooth", "substrate.height=0.3"])
     with pytest.raises(InputError, match="widht"):
         apply_overrides(paper, ["substrate.widht=0.3"])
+
+
+def test_a_file_without_base_is_told_which_paper_values_it_misses(tmp_path):
+    from bristlecrawler.scenario.keys import defaults_unlike_paper
+    from bristlecrawler.scenario.load import scenario_document
+
+    plain = tmp_path / "plain.toml"
+    plain.write_text("[bristle]\nalpha_deg = 30.0\n[contact]\nstick_drift = 1e-3\n")
+    missed = {k.key for k in defaults_unlike_paper(scenario_document(plain))}
+    assert missed == {"substrate.fillet_top", "solver.energy_loss_tol"}
+    based = tmp_path / "based.toml"
+    based.write_text('base = "paper"\n[bristle]\nalpha_deg = 30.0\n')
+    assert defaults_unlike_paper(scenario_document(based)) == []
+    sharp = tmp_path / "flat.toml"
+    sharp.write_text('[substrate]\nkind = "flat"\n')
+    assert "substrate.fillet_top" not in {
+        k.key for k in defaults_unlike_paper(scenario_document(sharp))
+    }

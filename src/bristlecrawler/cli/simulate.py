@@ -101,6 +101,7 @@ def simulate_cmd(
     )
     for w in run.summary["warnings"]:
         typer.echo(f"warning: {w}", err=True)
+    _note_defaults(scenario)
     if run.out_dir is not None and sc.output.animation:
         from bristlecrawler.viz.animation import mp4_available
 
@@ -114,6 +115,25 @@ def simulate_cmd(
         typer.echo(summary_json(run.summary))
         return
     _print_summary(run.summary)
+
+
+def _note_defaults(scenario: str) -> None:
+    """Say which keys a scenario file leaves to a default that `paper` changes."""
+    from bristlecrawler.scenario.keys import defaults_unlike_paper, toml_value
+    from bristlecrawler.scenario.load import available_scenarios, scenario_document
+
+    if scenario in available_scenarios() and not Path(scenario).is_file():
+        return
+    keys = defaults_unlike_paper(scenario_document(scenario))
+    if keys:
+        listed = ", ".join(
+            f"{k.key} = {toml_value(k.default)} (paper: {toml_value(k.paper)})" for k in keys
+        )
+        typer.echo(
+            f"note: {scenario} leaves {listed} at the schema's default; "
+            'add base = "paper" to start from the paper scenario',
+            err=True,
+        )
 
 
 def _print_summary(summary: dict) -> None:

@@ -257,3 +257,22 @@ def _toml_line(key: str, value: Any) -> str:
     if value is None:
         return f"# {key} = (not set)"
     return f"{key} = {toml_value(value)}"
+
+
+def defaults_unlike_paper(document: dict[str, Any]) -> list[Key]:
+    """The keys a scenario document leaves to a default that the ``paper`` scenario
+    changes (``document`` as written, with its base merged in: see
+    :func:`~bristlecrawler.scenario.load.scenario_document`)."""
+    out = []
+    substrate_kind = (document.get("substrate") or {}).get("kind", "grooves")
+    for key in scenario_keys():
+        if key.key in ("name", "description") or not differs(key):
+            continue
+        if key.kind and key.kind != substrate_kind:
+            continue
+        node: Any = document
+        for part in key.key.split("."):
+            node = node.get(part, _NO_DEFAULT) if isinstance(node, dict) else _NO_DEFAULT
+        if node is _NO_DEFAULT:
+            out.append(key)
+    return out
