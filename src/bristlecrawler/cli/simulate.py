@@ -162,8 +162,8 @@ def _print_summary(summary: dict) -> None:
     console.print(
         "W_c: work of the actuator on the connector. The balance residual is W_c minus the "
         "energy stored and dissipated (elastic, kinetic, gravity, friction, damping): "
-        "mostly the integrator's loss when a tip snaps into a groove in one step (with "
-        "solver.energy_loss_tol = inf, as in `paper`). See the docs' output reference."
+        "mostly what the implicit integrator loses when a tip snaps into a groove or off a "
+        "land edge faster than the steps resolve (see the docs' findings page)."
     )
     if "output_dir" in summary:
         console.print(f"results in {summary['output_dir']}")
