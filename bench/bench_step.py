@@ -1,7 +1,7 @@
 """Cost of the crawler's compiled step on captured attempts: a low-noise A/B benchmark.
 
 Whole runs of the FE crawler spread by 15-40 % on this 2-core machine from one run to the
-next (docs/fe-crawler-investigation.md), more than most changes to the step gain, and two
+next (docs/performance.md), more than most changes to the step gain, and two
 versions of the code take different solver paths. This script times the step itself on a
 fixed set of attempts instead:
 

@@ -24,7 +24,7 @@ def main() -> None:
         f"k = {calibration.k_N_per_mm:.3f} N/mm"
     )
     print(f"net advance {result.net_advance:.2f} mm, work {result.work[-1]:.2f} mJ")
-    print("advance per cycle (mm):", [round(a, 3) for a in advance_per_cycle])
+    print("advance per cycle (mm):", [round(float(a), 3) for a in advance_per_cycle])
     from bristlecrawler.viz import plot_delta_vs_s, save_figure
 
     save_figure(

@@ -2,7 +2,7 @@
 
 `paper` sets `contact.stick_drift = 1e-3` mm (the elastic slip at the friction limit;
 the schema's default is 1e-4 mm) because it takes 40 % fewer Newton iterations with the
-same gait (docs/fe-crawler-investigation.md). Here the same code path on a short, coarse
+same gait. Here the same code path on a short, coarse
 run: the paper crawler (alpha = 45 deg) on a flat substrate, so that the advance is not
 quantised by grooves, 4 elements per bristle, contact at the tips, a 3 mm stroke in 1 s.
 Going from 1e-4 to 1e-3 mm must leave the advance unchanged to well below 1 %, while an

@@ -52,3 +52,25 @@ def test_progress_disabled_is_silent(capsys):
     with sim_progress(10.0, enabled=False) as bar:
         bar.update(5.0, steps=3)
     assert capsys.readouterr().err == ""
+
+
+def test_progress_off_a_terminal_prints_one_line_per_stage_and_mark(capsys):
+    """Piped (pytest's stderr is not a terminal), a run reports each stage and each cycle
+    on stderr, and nothing on stdout."""
+    with sim_progress(45.0, "crawler", enabled=None, period=20.0, start=5.0) as bar:
+        bar.update(0.0, stage="compiling")
+        bar.update(0.0, stage="gravity step")
+        bar.update(5.0, stage="")
+        for t in (10.0, 24.9, 25.0, 30.0, 45.0):
+            bar.update(t, steps=3)
+    out, err = capsys.readouterr()
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert [x.split(" at t")[0] for x in lines[:3]] == [
+        "crawler: compiling",
+        "crawler: gravity step",
+        "crawler: stepping",
+    ]
+    done = [x for x in lines if "done" in x]
+    assert [x.split(",")[0] for x in done] == ["crawler: cycle 1 done", "crawler: cycle 2 done"]
+    assert "t = 25/45 s" in done[0] and "steps 3" in done[0]

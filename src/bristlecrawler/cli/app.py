@@ -33,13 +33,14 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import drag, experiment, reduced, simulate, verify
+    from bristlecrawler.cli import drag, experiment, reduced, scenario, simulate, verify
 
     reduced.register(app)
     experiment.register(app)
     verify.register(app)
     simulate.register(app)
     drag.register(app)
+    scenario.register(app)
 
 
 _register()

@@ -26,7 +26,12 @@ def reduced_cmd(
         float, typer.Option("--s-max", help="peak shortening s~ per segment, mm")
     ] = PAPER_S_MAX,
     fp: Annotated[
-        float, typer.Option("--fp", help="F_p, resistance along the grain, N")
+        float,
+        typer.Option(
+            "--fp",
+            help=f"F_p, resistance along the grain, N [default: {PAPER_FP:.6g}]",
+            show_default=False,
+        ),
     ] = PAPER_FP,
     fn: Annotated[
         float | None,
@@ -136,6 +141,12 @@ def _print_summary(summary: dict) -> None:
     table.add_row("stick/slip events", str(summary["events"]))
     console = Console()
     console.print(table)
+    if summary.get("gait") == "peristaltic" and summary.get("bristles", 2) > 2:
+        console.print(
+            "per cycle: each period T of the first segment; the wave takes (N - 2) lags "
+            "more to pass along the body, so the first cycles (the wave entering) and the "
+            "last (it leaving) differ from the steady ones, and can be negative"
+        )
     if "output_dir" in summary:
         console.print(f"results in {summary['output_dir']}")
 

@@ -57,7 +57,8 @@ def simulate_cmd(
     """Run a finite-element crawler scenario: gravity step, then the prescribed stroke.
 
     Writes crawler.nc (xarray/NetCDF), vtk/crawler.pvd (ParaView), delta_vs_s.png,
-    shapes.png, connector.png, crawler.gif (+ .mp4), summary.json, config.json, meta.json.
+    shapes.png, connector.png, crawler.gif (+ crawler.mp4 with the video extra),
+    summary.json, config.json, scenario.toml (rerun it with simulate FILE), meta.json.
     """
     from bristlecrawler.errors import InputError
     from bristlecrawler.fe import enable_compilation_cache
@@ -95,10 +96,39 @@ def simulate_cmd(
     )
     for w in run.summary["warnings"]:
         typer.echo(f"warning: {w}", err=True)
+    _note_defaults(scenario)
+    if run.out_dir is not None and sc.output.animation:
+        from bristlecrawler.viz.animation import mp4_available
+
+        if not mp4_available():
+            typer.echo(
+                "note: crawler.gif written, no crawler.mp4: MP4 needs the video extra "
+                "(pip install 'bristlecrawler[video]')",
+                err=True,
+            )
     if as_json:
         typer.echo(summary_json(run.summary))
         return
     _print_summary(run.summary)
+
+
+def _note_defaults(scenario: str) -> None:
+    """Say which keys a scenario file leaves to a default that `paper` changes."""
+    from bristlecrawler.scenario.keys import defaults_unlike_paper, toml_value
+    from bristlecrawler.scenario.load import available_scenarios, scenario_document
+
+    if scenario in available_scenarios() and not Path(scenario).is_file():
+        return
+    keys = defaults_unlike_paper(scenario_document(scenario))
+    if keys:
+        listed = ", ".join(
+            f"{k.key} = {toml_value(k.default)} (paper: {toml_value(k.paper)})" for k in keys
+        )
+        typer.echo(
+            f"note: {scenario} leaves {listed} at the schema's default; "
+            'add base = "paper" to start from the paper scenario',
+            err=True,
+        )
 
 
 def _print_summary(summary: dict) -> None:
@@ -112,9 +142,9 @@ def _print_summary(summary: dict) -> None:
     table.add_row(
         "advance per cycle (mm)", ", ".join(f"{a:.2f}" for a in summary["advance_per_cycle_mm"])
     )
-    table.add_row("connector work (mJ)", f"{summary['work_mJ']:.3f}")
+    table.add_row("connector work W_c (mJ)", f"{summary['work_mJ']:.3f}")
     table.add_row("mean |F_c| (N)", f"{summary['mean_abs_connector_force_N']:.3f}")
-    table.add_row("energy balance, rel. error", f"{summary['energy_balance_rel_error']:.1e}")
+    table.add_row("energy balance residual / W_c", f"{summary['energy_balance_rel_error']:.1e}")
     table.add_row("first frequency (Hz)", f"{summary['first_frequency_hz']:.2f}")
     table.add_row("largest bending strain of a bristle", f"{summary['max_bristle_strain']:.3f}")
     table.add_row(
@@ -124,6 +154,12 @@ def _print_summary(summary: dict) -> None:
     table.add_row("wall time (s)", f"{summary['wall_time_s']:.1f}")
     console = Console()
     console.print(table)
+    console.print(
+        "W_c: work of the actuator on the connector. The balance residual is W_c minus the "
+        "energy stored and dissipated (elastic, kinetic, gravity, friction, damping): "
+        "mostly what the implicit integrator loses when a tip snaps into a groove or off a "
+        "land edge faster than the steps resolve (see the docs' findings page)."
+    )
     if "output_dir" in summary:
         console.print(f"results in {summary['output_dir']}")
 

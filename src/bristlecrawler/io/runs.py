@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
+import math
 import os
 import platform
 import subprocess
@@ -115,8 +116,26 @@ def prepare_run_dir(out: str | os.PathLike | None, kind: str, root: str = "runs"
     return path
 
 
+def json_safe(value: Any) -> Any:
+    """``value`` with every non-finite float written as the string ``"inf"``, ``"-inf"`` or
+    ``"nan"`` (JSON has no such numbers; Python's ``Infinity`` is not JSON)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_safe(v) for v in value]
+    return value
+
+
+def config_json(config: dict[str, Any], indent: int | None = 2) -> str:
+    """Strict JSON of a resolved configuration (see :func:`json_safe`)."""
+    return json.dumps(json_safe(config), indent=indent, default=str, allow_nan=False)
+
+
 def write_run_metadata(run_dir: Path, config: dict[str, Any], command: str) -> RunInfo:
-    """Write ``config.json`` (resolved configuration) and ``meta.json`` (provenance)."""
+    """Write ``config.json`` (resolved configuration, strict JSON: an infinite bound is the
+    string ``"inf"``) and ``meta.json`` (provenance)."""
     from bristlecrawler import __version__
 
     info = RunInfo(
@@ -126,6 +145,6 @@ def write_run_metadata(run_dir: Path, config: dict[str, Any], command: str) -> R
         started=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         command=command,
     )
-    atomic_write_text(run_dir / "config.json", json.dumps(config, indent=2, default=str) + "\n")
+    atomic_write_text(run_dir / "config.json", config_json(config) + "\n")
     atomic_write_text(run_dir / "meta.json", json.dumps(info.as_dict(), indent=2) + "\n")
     return info

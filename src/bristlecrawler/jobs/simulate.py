@@ -1,11 +1,12 @@
 """The ``bristlecrawler simulate`` job: run an FE crawler scenario and write its results.
 
 Output folder (``runs/<timestamp>-simulate-<name>`` unless given): ``config.json`` (the
-resolved scenario), ``meta.json`` (package version, git revision, command), ``crawler.nc``
-(time series and frames, xarray/NetCDF), ``vtk/crawler.pvd`` (ParaView series),
-``delta_vs_s.png``, ``shapes.png``, ``connector.png``, ``crawler.gif`` (and ``.mp4`` where
-an ffmpeg is available) and ``summary.json``. Every file is written atomically, and only
-after the solve succeeded.
+resolved scenario), ``scenario.toml`` (the same as a scenario file: ``bristlecrawler
+simulate runs/<id>/scenario.toml`` runs it again), ``meta.json`` (package version, git
+revision, command), ``crawler.nc`` (time series and frames, xarray/NetCDF),
+``vtk/crawler.pvd`` (ParaView series), ``delta_vs_s.png``, ``shapes.png``,
+``connector.png``, ``crawler.gif`` (and ``crawler.mp4`` with the ``video`` extra) and
+``summary.json``. Every file is written atomically, and only after the solve succeeded.
 """
 
 from __future__ import annotations
@@ -97,14 +98,21 @@ def run_simulation(
 
     from bristlecrawler.io.atomic import atomic_write_text
     from bristlecrawler.io.netcdf import write_netcdf
-    from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
+    from bristlecrawler.io.runs import config_json, prepare_run_dir, write_run_metadata
+    from bristlecrawler.scenario.keys import scenario_toml
 
     out_dir = prepare_run_dir(out, f"simulate-{sc.name}")
+    if progress is not False:  # drawing the figures and the animation takes a while
+        import sys
+
+        print(f"crawler: writing results to {out_dir}", file=sys.stderr, flush=True)
     config = sc.model_dump(mode="json")
     info = write_run_metadata(out_dir, config, command)
     keep = frame_subset(h, sc.output.frames_per_cycle)
     framed = dataclasses.replace(h, frame_t=h.frame_t[keep], frame_nodes=h.frame_nodes[keep])
-    ds = framed.to_dataset(attrs=info.as_dict() | {"scenario": json.dumps(config)})
+    attrs = info.as_dict() | {"scenario": config_json(config, indent=None)}
+    ds = framed.to_dataset(attrs=attrs)
+    atomic_write_text(out_dir / "scenario.toml", scenario_toml(sc))
     write_netcdf(ds, out_dir / "crawler.nc")
     if sc.output.vtk:
         from bristlecrawler.io.vtk import write_vtk_series

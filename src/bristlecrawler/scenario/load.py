@@ -1,4 +1,15 @@
-"""Loading scenarios from the shipped set or from TOML files, with one-line errors."""
+"""Loading scenarios from the shipped set or from TOML files, with one-line errors.
+
+A scenario file may start from another one with a top-level ``base`` key::
+
+    base = "paper"          # a shipped scenario, or a path to a TOML file
+    [bristle]
+    alpha_deg = 30.0        # every other value is the base's
+
+Tables are merged key by key over the base's; a ``[substrate]`` table whose ``kind``
+differs from the base's replaces it whole. Without ``base`` every key that the file does
+not set takes the schema's default (``bristlecrawler scenario keys`` lists both).
+"""
 
 from __future__ import annotations
 
@@ -13,11 +24,23 @@ from bristlecrawler.scenario.schema import Scenario
 from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.substrate import parse_substrate
 
+_MAX_BASES = 8  # a chain of bases longer than this is a loop
+
 
 def available_scenarios() -> list[str]:
     """Names of the scenarios shipped with the package."""
     folder = resources.files("bristlecrawler") / "scenarios"
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def shipped_scenario_text(name: str) -> str:
+    """The TOML text of a shipped scenario, comments included."""
+    names = available_scenarios()
+    if name not in names:
+        shipped = ", ".join(names)
+        raise InputError(f"unknown scenario '{name}' (shipped: {shipped}; or a .toml file)")
+    resource = resources.files("bristlecrawler") / "scenarios" / f"{name}.toml"
+    return resource.read_text(encoding="utf-8")
 
 
 def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenario:
@@ -30,31 +53,75 @@ def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenar
         raise InputError(f"{origin}: {exc}") from None
 
 
+def _is_path(text: str) -> bool:
+    # A folder named like a shipped scenario (a run's --out paper) is not a scenario file.
+    return text.endswith(".toml") or os.sep in text or Path(text).is_file()
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
+    if not path.is_file():
+        raise InputError(f"scenario file not found: {path}")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: invalid TOML ({exc})") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a UTF-8 text file") from None
+    act = data.get("actuation", {})
+    if isinstance(act, dict) and act.get("history") and not Path(act["history"]).is_absolute():
+        act["history"] = str(path.parent / act["history"])  # relative to the file
+    return data
+
+
+def _merge(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
+    """``over``'s tables merged key by key into ``base``'s (a new dict)."""
+    out = dict(base)
+    for key, value in over.items():
+        old = out.get(key)
+        if isinstance(value, dict) and isinstance(old, dict):
+            if key == "substrate" and value.get("kind", old.get("kind")) != old.get("kind"):
+                out[key] = dict(value)  # another kind of texture: nothing to inherit
+            else:
+                out[key] = _merge(old, value)
+        else:
+            out[key] = value
+    return out
+
+
+def _raw(name_or_path: str, origin: Path | None, depth: int = 0) -> dict[str, Any]:
+    """The document of a scenario with its ``base`` chain merged in (not validated)."""
+    if depth > _MAX_BASES:
+        raise InputError(f"scenario base chain longer than {_MAX_BASES} (a loop?)")
+    if _is_path(name_or_path):
+        path = Path(name_or_path)
+        if origin is not None and not path.is_absolute():
+            path = origin.parent / path  # a base path is relative to the file naming it
+        data, here = _read_toml(path), path
+    else:
+        data, here = tomllib.loads(shipped_scenario_text(name_or_path)), None
+    base = data.pop("base", None)
+    if base is None:
+        return data
+    where = here or name_or_path
+    if not isinstance(base, str) or not base:
+        raise InputError(f"{where}: base must be a scenario name or a .toml path, got {base!r}")
+    merged = _merge(_raw(base, here, depth + 1), data)
+    merged["name"] = data.get("name", here.stem if here is not None else name_or_path)
+    merged["description"] = data.get("description", f"{base} with the changes of {where}")
+    return merged
+
+
+def scenario_document(name_or_path: str | os.PathLike) -> dict[str, Any]:
+    """The scenario's TOML document with its ``base`` chain merged in, before validation:
+    the keys the user (or the shipped file) wrote, nothing filled from defaults."""
+    return _raw(os.fspath(name_or_path), None)
+
+
 def load_scenario(name_or_path: str | os.PathLike) -> Scenario:
-    """A shipped scenario by name (``paper``, ``paper-vertical``) or a TOML file."""
+    """A shipped scenario by name (``paper``, ``paper-vertical``) or a TOML file, which may
+    name a ``base`` scenario to start from (see the module)."""
     text = os.fspath(name_or_path)
-    if text.endswith(".toml") or os.sep in text or Path(text).exists():
-        path = Path(text)
-        if not path.is_file():
-            raise InputError(f"scenario file not found: {path}")
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"{path}: invalid TOML ({exc})") from None
-        except UnicodeDecodeError:
-            raise InputError(f"{path}: not a UTF-8 text file") from None
-        base = Path(path).parent
-        act = data.get("actuation", {})
-        if isinstance(act, dict) and act.get("history") and not Path(act["history"]).is_absolute():
-            act["history"] = str(base / act["history"])
-        return scenario_from_dict(data, str(path))
-    names = available_scenarios()
-    if text not in names:
-        raise InputError(
-            f"unknown scenario '{text}' (shipped: {', '.join(names)}; or a .toml file)"
-        )
-    resource = resources.files("bristlecrawler") / "scenarios" / f"{text}.toml"
-    return scenario_from_dict(tomllib.loads(resource.read_text(encoding="utf-8")), text)
+    return scenario_from_dict(scenario_document(text), text)
 
 
 def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
@@ -77,16 +144,22 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
 
 def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
     """The scenario with ``{"section.key": value}`` set (Python values, e.g. a path as
-    it is) and re-validated; an unknown key or a bad value raises a one-line InputError."""
+    it is) and re-validated; an unknown key or a bad value raises a one-line InputError.
+    Setting ``substrate.kind`` to another kind starts that table afresh (its ``mu`` kept),
+    so the new kind's keys follow it."""
     data = sc.model_dump()
     for key, value in values.items():
         *path, last = key.split(".")
+        if path == ["substrate"] and last == "kind" and value != data["substrate"]["kind"]:
+            # Another kind of texture: none of the old kind's keys apply (its mu does).
+            data["substrate"] = {"kind": value, "mu": data["substrate"]["mu"]}
+            continue
         node = data
         for part in path:
             if not isinstance(node.get(part), dict):
                 raise InputError(f"--set {key}: unknown section {part!r}")
             node = node[part]
-        if last not in node:
+        if last not in node and path != ["substrate"]:  # the substrate's kind checks its keys
             raise InputError(f"--set {key}: unknown parameter {last!r}")
         node[last] = value
     return scenario_from_dict(data, "scenario (with --set)")

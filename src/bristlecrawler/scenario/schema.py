@@ -84,7 +84,11 @@ class DampingConfig(_Section):
     ratio: float = Field(
         _DAMPING.ratio, ge=0.0, lt=1.0, description="damping ratio at the reference frequency, -"
     )
-    kind: Literal["mass", "stiffness", "explicit"] = _DAMPING.kind
+    kind: Literal["mass", "stiffness", "explicit"] = Field(
+        _DAMPING.kind,
+        description="Rayleigh damping proportional to the mass or to the stiffness, with "
+        "the ratio at the first resonance of the settled crawler; or 'explicit' a0, a1",
+    )
     a0: float = Field(_DAMPING.a0, ge=0.0, description="explicit mass coefficient, 1/s")
     a1: float = Field(_DAMPING.a1, ge=0.0, description="explicit stiffness coefficient, s")
 
@@ -92,11 +96,19 @@ class DampingConfig(_Section):
 class ActuationConfig(_Section):
     """Step 2: the prescribed shortening of the body."""
 
-    kind: Literal["sin2", "history", "sma"] = "sin2"
+    kind: Literal["sin2", "history", "sma"] = Field(
+        "sin2",
+        description="stroke: s_max sin^2(pi t / period), a recorded history (history), or "
+        "the closed-loop SMA actuator model (sma)",
+    )
     s_max: float = _pos(_ACTUATION.s_max, "peak shortening s~ of each body segment, mm")
     period: float = _pos(_ACTUATION.period, "cycle period T, s")
     cycles: int = Field(_ACTUATION.cycles, ge=1, le=10_000, description="number of cycles")
-    history: str | None = Field(None, description="CSV with columns t (s), s (mm)")
+    history: str | None = Field(
+        None,
+        description="CSV file of a shortening history (columns t in s and s in mm), "
+        "relative to the scenario file",
+    )
     settle_time: float = _pos(_ACTUATION.settle_time, "step 1 (gravity) duration, s")
     gait: Literal["breathing", "peristaltic"] = Field(
         _ACTUATION.gait,
@@ -129,8 +141,7 @@ class SolverConfig(_Section):
         ge=2,
         le=1000,
         description="Newton iterations per step attempt before the step is cut (12 saves "
-        "iterations on `paper` but stopped `paper-vertical` at dt_min; "
-        "docs/fe-crawler-investigation.md)",
+        "iterations on `paper` but stopped `paper-vertical` at dt_min)",
     )
     stall_iterations: int = Field(
         _SOLVER.stall_iterations,
@@ -174,7 +185,7 @@ class SolverConfig(_Section):
         "sign): the impact-like loss of a large step across a snap. Bounded, the steps "
         "resolve the snaps; inf lets a step take a snap at once, which runs `paper` 2.3 "
         "times faster with the same advance, but lets the vertical bristles of "
-        "`paper-vertical` flip over unresolved (docs/fe-crawler-investigation.md)",
+        "`paper-vertical` flip over unresolved",
     )
     max_correction: float = Field(
         _SOLVER.max_correction,
@@ -184,17 +195,21 @@ class SolverConfig(_Section):
         "a larger correction is scaled down to it before the line search halves it (inf: "
         "off). Corrections that moved a bristle tip by millimetres through the substrate "
         "took all the line search's halvings; capped, `paper` needs 16-22 % fewer Newton "
-        "iterations for the same gait (docs/fe-crawler-investigation.md)",
+        "iterations for the same gait",
     )
 
 
 class OutputConfig(_Section):
     """What a run writes."""
 
-    frames_per_cycle: int = Field(40, ge=2, le=100_000, description="saved frames per cycle")
-    vtk: bool = True
-    figures: bool = True
-    animation: bool = True
+    frames_per_cycle: int = Field(
+        40, ge=2, le=100_000, description="frames per cycle saved in crawler.nc and the VTK series"
+    )
+    vtk: bool = Field(True, description="write the ParaView series vtk/crawler.pvd")
+    figures: bool = Field(True, description="write delta_vs_s.png, shapes.png and connector.png")
+    animation: bool = Field(
+        True, description="write crawler.gif (and crawler.mp4 with the `video` extra)"
+    )
 
 
 class ContactConfig(_Section):
@@ -224,8 +239,9 @@ class ContactConfig(_Section):
         _CONTACT.penalty_load,
         gt=0.0,
         allow_inf_nan=False,
-        description="load (N) at which penetration stays below 1e-3 mm and the stick drift "
-        "below contact.stick_drift; default: the weight on one bristle",
+        description="penalty load, N: the normal penalty keeps penetration below 1e-3 mm and "
+        "the stick drift below contact.stick_drift at this load; null: the weight on one "
+        "bristle",
     )
     stick_drift: float = Field(
         _CONTACT.stick_drift,
@@ -236,8 +252,7 @@ class ContactConfig(_Section):
         "sets 1e-3 mm: the same gait as 1e-4 mm in 40 % fewer Newton iterations. "
         "`paper-vertical` keeps 1e-4 mm: with 1e-3, at the end of its 0.5 s gravity step "
         "each tip stands on one face point and the settled state is unstable (a negative "
-        "lowest eigenvalue of the tangent) "
-        "(docs/fe-crawler-investigation.md)",
+        "lowest eigenvalue of the tangent)",
     )
     active_points: int | None = Field(
         _CONTACT.active_points,
@@ -251,8 +266,8 @@ class ContactConfig(_Section):
         _CONTACT.max_penetration,
         gt=0.0,
         allow_inf_nan=True,
-        description="a time step that converges with a contact penetration deeper than "
-        "this (mm) is rejected and cut: a land corner that reaches the middle of the 0.5 mm "
+        description="deepest contact penetration of a converged time step, mm: a deeper one "
+        "is rejected and cut, since a land corner that reaches the middle of the 0.5 mm "
         "tip is pushed out through the wrong face (25 times the design penetration; inf: "
         "no limit)",
     )
@@ -261,8 +276,8 @@ class ContactConfig(_Section):
 class Scenario(_Section):
     """A complete finite-element crawler scenario."""
 
-    name: str = "custom"
-    description: str = ""
+    name: str = Field("custom", description="name of the scenario, used in the run folder's name")
+    description: str = Field("", description="one line on what the scenario is")
     body: BodyConfig = BodyConfig()
     bristle: BristleConfig = BristleConfig()
     substrate: SubstrateConfig = GroovesConfig(kind="grooves", width=1.0, depth=0.25, pitch=2.0)

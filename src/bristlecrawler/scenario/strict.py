@@ -14,7 +14,7 @@ M = TypeVar("M", bound=BaseModel)
 
 class StrictSection(BaseModel):
     """A table of a configuration file: unknown keys refused, frozen, and strict: a number
-    must be a number (TOML 45 or 45.0), not a bool or the string "45" (lax mode took
+    must be a number (TOML 45 or 45.0), not a bool or the string "45" (lax mode would take
     ``--set bristle.elements=true`` as one element). A numpy scalar (a sweep's
     ``np.linspace`` value) is taken as its Python number."""
 

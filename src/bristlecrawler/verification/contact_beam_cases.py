@@ -1,4 +1,4 @@
-"""Contact verification cases of a beam (the paper's bristle) on a substrate (issue #4).
+"""Contact verification cases of a beam (the paper's bristle) on a substrate.
 
 :func:`beam_on_substrate` (a cantilever whose clamp is lowered and dragged, one contact
 point at the tip) serves both cases with one topology and one substrate type, so they

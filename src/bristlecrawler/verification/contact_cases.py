@@ -1,4 +1,4 @@
-"""Contact verification cases run through the FE solvers (issue #4: frictional contact).
+"""Contact verification cases run through the FE solvers (frictional contact).
 
 Each case builds a small structure with the :class:`~bristlecrawler.contact.term.
 SubstrateContact` term, runs the FE dynamic solver (HHT-alpha, alpha = -0.05), and is

@@ -1,4 +1,4 @@
-"""Rows of ``bristlecrawler verify`` for the frictional-contact cases (issue #4).
+"""Rows of ``bristlecrawler verify`` for the frictional-contact cases.
 
 Each function takes a finished run (or runs the case) and returns ``(rows, doc)``: the
 table rows (:class:`~bristlecrawler.verification.cases.Row`: case, quantity, reference,
@@ -116,7 +116,7 @@ def grooved_drag_rows(run=None) -> tuple[list[Row], dict]:
     """The paper's bristle tip dragged across two of the paper's grooves (0.1 mm fillets).
 
     Energy balance: max over the run of |work in - (elastic + kinetic + friction +
-    damping)| / max work in, tolerance 1e-3 (the issue's target). The tip must drop into
+    damping)| / max work in, tolerance 1e-3. The tip must drop into
     every groove it passes and climb out of it (counts against the grooves its path
     spans, exact), and the contact force stays finite: the penetration stays below the
     penalty's design value of 1e-4 mm (at 1 N).

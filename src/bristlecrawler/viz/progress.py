@@ -1,10 +1,17 @@
-"""Progress bar for long simulations: simulated time, wall time and ETA, on stderr (so that
-``--json`` output on stdout stays clean); silent when disabled or not on a terminal."""
+"""Progress of long simulations on stderr (so that ``--json`` output on stdout stays clean).
+
+On a terminal: a bar with the simulated time, wall time and ETA. Elsewhere (a pipe, a log
+file, a batch job): one line per stage (compiling, gravity step, modal analysis) and one
+each time the run passes a mark of simulated time (every cycle when the caller gives the
+cycle period, else every tenth of the run). Disabled: silent.
+"""
 
 from __future__ import annotations
 
 import contextlib
+import math
 import sys
+import time
 from collections.abc import Iterator
 
 
@@ -13,12 +20,58 @@ class _Null:
         """Do nothing."""
 
 
+class _Lines:
+    """One line per stage and per mark of simulated time, for logs."""
+
+    def __init__(self, t_end: float, label: str, period: float | None, start: float, stream):
+        self.t_end, self.label, self.stream = t_end, label, stream
+        self.period, self.start = period, start
+        self.wall0 = time.perf_counter()
+        self.stage: str | None = None
+        self.mark = 0  # marks passed so far
+
+    def _step(self) -> float:
+        return self.period if self.period else self.t_end / 10.0
+
+    def _write(self, text: str) -> None:
+        elapsed = time.perf_counter() - self.wall0
+        print(f"{self.label}: {text} ({elapsed:.0f} s elapsed)", file=self.stream, flush=True)
+
+    def update(self, t_sim: float, stage: str | None = None, **info) -> None:
+        if stage is not None and stage != self.stage:
+            self.stage = stage
+            self._write(f"{stage or 'stepping'} at t = {t_sim:.3g} s")
+        origin = self.start if self.period else 0.0
+        step = self._step()
+        if step <= 0 or not math.isfinite(step):
+            return
+        passed = int((t_sim - origin) / step + 1e-9)
+        if passed > self.mark:
+            self.mark = passed
+            what = f"cycle {passed} done" if self.period else f"{passed * 10} %"
+            counters = ", ".join(f"{k} {v}" for k, v in info.items())
+            extra = f", {counters}" if counters else ""
+            self._write(f"{what}, t = {t_sim:.4g}/{self.t_end:.4g} s{extra}")
+
+
 @contextlib.contextmanager
-def sim_progress(t_end: float, label: str = "simulating", enabled: bool | None = None) -> Iterator:
+def sim_progress(
+    t_end: float,
+    label: str = "simulating",
+    enabled: bool | None = None,
+    period: float | None = None,
+    start: float = 0.0,
+) -> Iterator:
     """Yield an object with ``update(t_sim, stage=None, **info)``: ``t_sim`` s of simulated
-    time, ``stage`` what the run is doing (kept until the next stage), ``info`` counters."""
-    if enabled is None:
-        enabled = sys.stderr.isatty()
+    time, ``stage`` what the run is doing (kept until the next stage), ``info`` counters.
+
+    ``enabled``: True a bar, False nothing, None a bar on a terminal and lines elsewhere.
+    ``period`` (s) and ``start`` (s, when the first cycle starts): report each cycle's end
+    in the lines; without them every tenth of ``t_end`` is reported.
+    """
+    if enabled is None and not sys.stderr.isatty():
+        yield _Lines(t_end, label, period, start, sys.stderr)
+        return
     if not enabled:
         yield _Null()
         return

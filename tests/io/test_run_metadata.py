@@ -1,0 +1,22 @@
+"""Run folders' configuration files are strict JSON."""
+
+import json
+import math
+
+from bristlecrawler.io.runs import json_safe, write_run_metadata
+
+
+def _strict(text):
+    def refuse(name):
+        raise ValueError(f"not JSON: {name}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_config_json_has_no_infinity(tmp_path):
+    config = {"solver": {"energy_loss_tol": math.inf, "dt": 0.05}, "x": [-math.inf, 1.0]}
+    write_run_metadata(tmp_path, config, "test")
+    cfg = _strict((tmp_path / "config.json").read_text())
+    assert cfg == {"solver": {"energy_loss_tol": "inf", "dt": 0.05}, "x": ["-inf", 1.0]}
+    assert float(cfg["solver"]["energy_loss_tol"]) == math.inf
+    assert json_safe(math.nan) == "nan"
