@@ -61,7 +61,7 @@ def test_the_first_loading_slope_is_the_bristles_closed_form_stiffness():
 def test_the_work_of_the_drive_over_whole_pitches_is_what_they_dissipate():
     """Over whole pitches of steady sliding the elastic energy comes back to its value,
     so the drive's work (the integral of its force) is the friction and damping loss."""
-    spec, r = _grooves()
+    _, r = _grooves()
     k = r.first_slip(0)
     x0 = r.x[k]
     x1 = x0 + r.pitch * int((r.x[-1] - x0) // r.pitch)

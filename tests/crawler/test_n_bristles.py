@@ -99,7 +99,7 @@ def test_three_bristles_advance_and_every_segment_does_work():
     spec = dataclasses.replace(
         _coarse(PAPER, 6),
         actuation=short,
-        contact=dataclasses.replace(PAPER.contact, nodes="tip", corners=False),
+        contact=dataclasses.replace(PAPER.contact, nodes="tip", surface=False, corners=False),
     )
     row = ex.compare(3, spec)
     assert row.fe_per_cycle[0] > 1.0 and row.reduced_per_cycle[0] > 1.0
@@ -121,7 +121,7 @@ def test_a_hold_after_the_stroke_records_a_crawler_at_rest():
     spec = dataclasses.replace(
         _coarse(PAPER, 6),
         actuation=Actuation(s_max=6.0, period=4.0, cycles=1),
-        contact=dataclasses.replace(PAPER.contact, nodes="tip", corners=False),
+        contact=dataclasses.replace(PAPER.contact, nodes="tip", surface=False, corners=False),
     )
     h = run(spec, (*DEFAULT_STAGES, Hold(1.0)))
     hold = h.t > 4.0 + 1e-9
