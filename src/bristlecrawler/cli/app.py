@@ -33,12 +33,13 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import experiment, reduced, simulate, verify
+    from bristlecrawler.cli import experiment, reduced, simulate, sweep, verify
 
     reduced.register(app)
     experiment.register(app)
     verify.register(app)
     simulate.register(app)
+    sweep.register(app)
 
 
 _register()
