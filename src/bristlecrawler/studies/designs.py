@@ -51,11 +51,15 @@ class Designs:
 
     def overrides(self, index: int) -> dict[str, Any]:
         """``{key: value}`` of design ``index``, as Python scalars."""
-        return {k: self.values[k][index].item() for k in self.keys}
+        return {k: _python(self.values[k][index]) for k in self.keys}
 
     def label(self, index: int) -> str:
         text = ", ".join(f"{k}={_fmt(v)}" for k, v in self.overrides(index).items())
         return f"design {index} ({text})"
+
+
+def _python(value: Any) -> Any:
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def _fmt(v) -> str:

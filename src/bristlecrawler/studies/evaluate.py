@@ -151,13 +151,18 @@ def evaluate_reduced_chunk(
     for i in np.flatnonzero(~bulk):
         t0 = time.perf_counter()
         try:
-            row = base | {k: np.asarray(v)[i].item() for k, v in values.items()}
+            row = base | {k: _python(np.asarray(v)[i]) for k, v in values.items()}
             for k, v in evaluate_reduced(row).items():
                 res[k][i] = v
         except Exception as exc:  # a failed design is recorded, the others go on
             status[i], error[i] = DesignStatus.FAILED, _one_line(exc)
         res["wall_time_s"][i] = time.perf_counter() - t0
     return res | {"status": status, "error": error.astype(str)}
+
+
+def _python(value: Any) -> Any:
+    """A numpy scalar as its Python value (an object array's items already are)."""
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def _one_line(exc: BaseException) -> str:

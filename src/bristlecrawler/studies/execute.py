@@ -65,22 +65,19 @@ def lost_result(n: int, message: str) -> dict[str, np.ndarray]:
     }
 
 
-def connect(scheduler: str | None, workers: int | None):
+def connect(scheduler: str | None, workers: int | None, timeout_s: float = CONNECT_TIMEOUT_S):
     """A Dask client (and the LocalCluster it owns, or None). An unreachable scheduler is
-    an InputError within :data:`CONNECT_TIMEOUT_S` seconds."""
+    an InputError after ``timeout_s`` seconds."""
     from distributed import Client, LocalCluster
 
     logging.getLogger("distributed").setLevel(logging.ERROR)
     if scheduler is not None:
         try:
-            client = Client(
-                scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False, asynchronous=False
-            )
+            client = Client(scheduler, timeout=timeout_s, set_as_default=False, asynchronous=False)
         except (OSError, TimeoutError, ValueError) as exc:
             reason = " ".join(str(exc).split())[:200] or type(exc).__name__
             raise InputError(
-                f"cannot reach the Dask scheduler at {scheduler} within "
-                f"{CONNECT_TIMEOUT_S:g} s ({reason})"
+                f"cannot reach the Dask scheduler at {scheduler} within {timeout_s:g} s ({reason})"
             ) from None
         return client, None
     n = workers or os.cpu_count() or 1

@@ -31,7 +31,8 @@ class SweepOptions:
     """out: study folder [default runs/<stamp>-sweep-<name>]; scheduler: address of a
     running Dask scheduler [default: a LocalCluster]; workers: LocalCluster workers
     [default: one per core]; resume: complete the study already in ``out``; figures:
-    draw them; progress: bar on stderr [default: on a terminal]; command: for meta.json."""
+    draw them; progress: bar on stderr [default: on a terminal]; command: for meta.json;
+    connect_timeout_s: how long to try to reach ``scheduler`` before giving up."""
 
     out: Path | None = None
     scheduler: str | None = None
@@ -40,6 +41,7 @@ class SweepOptions:
     figures: bool = True
     progress: bool | None = None
     command: str = ""
+    connect_timeout_s: float = execute.CONNECT_TIMEOUT_S
 
     def __post_init__(self) -> None:
         if self.workers is not None and self.workers < 1:
@@ -112,7 +114,7 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
     todo = [t for t in tasks_of(p) if t.number not in finished]
     client = cluster = None
     if todo:
-        client, cluster = execute.connect(opt.scheduler, opt.workers)
+        client, cluster = execute.connect(opt.scheduler, opt.workers, opt.connect_timeout_s)
     meta = {
         "package_version": __version__,
         "git_revision": git_revision(),

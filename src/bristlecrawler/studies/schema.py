@@ -108,17 +108,35 @@ class Study(BaseModel):
         "bristles, sin^2 stroke), the exact solver elsewhere; 'exact': always the solver",
     )
 
-    @field_validator("axes")
+    @field_validator("axes", mode="before")
     @classmethod
-    def _lists(cls, axes: dict) -> dict:
+    def _axes(cls, axes: Any) -> Any:
+        """Each axis is a list of values or a range table; one clear message for either."""
+        from pydantic import ValidationError
+
+        from bristlecrawler.io.config import first_error_message
+
+        if not isinstance(axes, dict):
+            return axes
+        out = {}
         for key, axis in axes.items():
             if isinstance(axis, list):
                 if not axis:
                     raise ValueError(f"{key}: empty list of values")
                 kinds = {float if type(v) is int else type(v) for v in axis}
-                if len(kinds) > 1:
-                    raise ValueError(f"{key}: values of mixed types")
-        return axes
+                if len(kinds) > 1 or not kinds <= {bool, float, str}:
+                    raise ValueError(
+                        f"{key}: values must be numbers, booleans or strings of one type"
+                    )
+                out[key] = axis
+            elif isinstance(axis, dict):
+                try:
+                    out[key] = AxisRange.model_validate(axis)
+                except ValidationError as exc:
+                    raise ValueError(f"{key}: {first_error_message(exc)}") from None
+            else:
+                raise ValueError(f"{key}: a list of values or a table (linspace, logspace, ...)")
+        return out
 
     @model_validator(mode="after")
     def _samples(self) -> Study:
