@@ -85,7 +85,7 @@ def connect(scheduler: str | None, workers: int | None, timeout_s: float = CONNE
         n_workers=n,
         threads_per_worker=1,
         processes=True,
-        dashboard_address=None,
+        dashboard_address=":0",
         silence_logs=logging.ERROR,
     )
     return Client(cluster, set_as_default=False), cluster

@@ -21,6 +21,10 @@ MAX_POINTS = 20_000
 MAX_LINES = 8
 
 
+def _fmt(v) -> str:
+    return f"{v:.4g}" if isinstance(v, float | np.floating) else str(v)
+
+
 def _numeric(ds, key) -> bool:
     return ds[key].dtype.kind in "iuf"
 
@@ -36,7 +40,7 @@ def _against_axis(ax, ds, out, key) -> None:
             if others:
                 idx = stacked["_line"].values[j]
                 idx = idx if isinstance(idx, tuple) else (idx,)
-                label = ", ".join(f"{d}={v:.4g}" for d, v in zip(others, idx, strict=True))
+                label = ", ".join(f"{d}={_fmt(v)}" for d, v in zip(others, idx, strict=True))
             ax.plot(ds[key].values, stacked.isel(_line=j).values, "o-", ms=3, label=label)
         if others:
             ax.legend(fontsize=6)

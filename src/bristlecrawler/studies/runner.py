@@ -121,6 +121,7 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
         "command": opt.command,
         "started_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "scheduler": opt.scheduler or f"LocalCluster({opt.workers or 'one per core'})",
+        "dashboard": None if client is None else client.dashboard_link,
     }
     try:
         store.start_folder(out, p.resolved, meta)
