@@ -14,6 +14,7 @@ import pytest
 import xarray as xr
 
 from bristlecrawler.studies import DesignStatus, SweepOptions, evaluate_reduced, run_sweep
+
 from .conftest import worker_env
 
 # 20 designs of the exact solver (three bristles), one task each: long enough to kill
