@@ -131,8 +131,14 @@ def run_tasks(client, tasks: list[Task], prefix: str, on_done, on_tick=None) -> 
 
 
 def _running(client, by_key) -> int:
+    """Designs of the tasks that workers are running now (a worker's queue beyond its
+    threads is waiting, not running)."""
     try:
-        processing = client.processing()
+        processing, threads = client.processing(), client.nthreads()
     except Exception:  # a scheduler that went away shows in the futures themselves
         return 0
-    return sum(by_key[k].index.size for keys in processing.values() for k in keys if k in by_key)
+    busy = 0
+    for worker, keys in processing.items():
+        ours = [by_key[k].index.size for k in keys if k in by_key]
+        busy += sum(ours[: threads.get(worker, 1)])
+    return busy

@@ -55,6 +55,8 @@ class SweepProgress:
     def finished(self, text: str, n: int, failed: int) -> None:
         self.done += n
         self.failed += failed
+        if self.done >= self.total:
+            self.busy = 0
         if self._bar is not None:
             self._refresh()
             return
