@@ -121,13 +121,21 @@ def run_tasks(client, tasks: list[Task], prefix: str, on_done, on_tick=None) -> 
             if fut.status == "finished":
                 on_done(task, fut.result())
             else:
-                exc = fut.exception()
-                on_done(task, lost_result(task.index.size, f"task lost: {_one_line(exc)}"))
+                on_done(task, lost_result(task.index.size, f"task lost: {_why(fut)}"))
             fut.release()
         if not batch and on_tick is not None:
             on_tick(_running(client, by_key))
         if not batch:
             time.sleep(0.25)
+
+
+def _why(fut) -> str:
+    """Why a future ended without a result (KilledWorker, a scheduler gone, ...)."""
+    try:
+        exc = fut.exception(timeout=5)
+    except Exception as other:  # cancelled or unreachable: that is the reason
+        exc = other
+    return _one_line(exc) if exc is not None else f"task {fut.status}"
 
 
 def _running(client, by_key) -> int:
