@@ -5,7 +5,7 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bristlecrawler.errors import InputError
@@ -59,6 +59,7 @@ def test_integer_keys_take_integers_and_logspace_is_geometric(tmp_path):
         plan(_study(tmp_path, REDUCED.format(axes="bristles = { linspace = [2, 6, 4] }")))
 
 
+@settings(max_examples=20)
 @given(n=st.integers(1, 60), seed=st.integers(0, 2**31))
 def test_latin_hypercube_puts_one_sample_in_each_stratum(tmp_path_factory, n, seed):
     tmp = tmp_path_factory.mktemp("lhs")
