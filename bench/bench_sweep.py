@@ -113,22 +113,23 @@ def overhead(folder: Path, n: int = 200) -> list[tuple]:
     ]
 
 
-def fe(folder: Path) -> list[tuple]:
+def fe(folder: Path) -> None:
     os.environ["BRISTLECRAWLER_NO_JAX_CACHE"] = "1"
     study = _study(folder, "fe", FE)
-    rows = []
     for workers in (1, 2):
         wall, summary = _sweep(study, folder / f"fe{workers}", workers)
         done = summary["designs_done"]
-        rows.append(
-            (
-                "FE paper scenario, 2 cycles, cold workers",
-                f"{done}/{summary['designs_total']} designs, {workers} workers",
-                wall,
-                done,
-            )
-        )
-    return rows
+        size = f"{done}/{summary['designs_total']} designs, {workers} workers"
+        _print([("FE paper scenario, 2 cycles, cold workers", size, wall, done)])
+
+
+def _print(rows: list[tuple]) -> None:
+    for case, size, t, n in rows:
+        if t is None:
+            print(f"{case:48s} {size:34s} {'-':>10s} {'-':>12s}", flush=True)
+            continue
+        rate = f"{3600 * n / t:12.3g}" if n and t > 0 and case.startswith("FE") else ""
+        print(f"{case:48s} {size:34s} {t:10.3g} {rate:>12s}", flush=True)
 
 
 def main() -> None:
@@ -136,17 +137,16 @@ def main() -> None:
     ap.add_argument("--fe", action="store_true", help="also the FE designs per hour (minutes)")
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     args = ap.parse_args()
+    # Rows are printed as they come: a run stopped half way still reports what it measured.
+    print(f"{'case':48s} {'size':34s} {'time (s)':>10s} {'per hour':>12s}", flush=True)
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        rows = million(folder, args.workers) + overhead(folder)
-        rows += fe(folder) if args.fe else [("FE designs per hour", "not measured (--fe)", None, 0)]
-    print(f"{'case':48s} {'size':34s} {'time (s)':>10s} {'per hour':>12s}")
-    for case, size, t, n in rows:
-        if t is None:
-            print(f"{case:48s} {size:34s} {'-':>10s} {'-':>12s}")
-            continue
-        rate = f"{3600 * n / t:12.3g}" if n and t > 0 and case.startswith("FE") else ""
-        print(f"{case:48s} {size:34s} {t:10.3g} {rate:>12s}")
+        _print(million(folder, args.workers))
+        _print(overhead(folder))
+        if args.fe:
+            fe(folder)
+        else:
+            _print([("FE designs per hour", "not measured (--fe)", None, 0)])
 
 
 if __name__ == "__main__":
