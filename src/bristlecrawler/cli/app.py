@@ -33,7 +33,7 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import drag, experiment, reduced, scenario, simulate, verify
+    from bristlecrawler.cli import drag, experiment, reduced, scenario, simulate, sweep, verify
 
     reduced.register(app)
     experiment.register(app)
@@ -41,6 +41,7 @@ def _register() -> None:
     simulate.register(app)
     drag.register(app)
     scenario.register(app)
+    sweep.register(app)
 
 
 _register()

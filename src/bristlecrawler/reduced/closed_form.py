@@ -76,6 +76,83 @@ def work(s_max, fp, k, cycles):
     return work_first(s_max, fp, k) + (n - 1) * work_later(s_max, fp, k)
 
 
+def _elongation_bounds(s_max, fp_over_k):
+    """Left-spring elongation (mm) at the top of every contraction and at the end of the
+    first cycle: ``e_top = min(s~/2, c)``, ``e_bottom = max(e_top - s~/2, -c)``. Every
+    cycle n >= 2 starts from ``e_bottom`` and reaches ``e_top`` again (shakedown)."""
+    s, c = np.asarray(s_max, float), np.asarray(fp_over_k, float)
+    top = np.minimum(0.5 * s, c)
+    return top, np.maximum(top - 0.5 * s, -c)
+
+
+def _half_cycle_mean_abs(a, s_max, c):
+    """Time mean of ``|clip(a + s/2, -c, c)|`` over half a sin^2 stroke (s from 0 to s~).
+
+    With ``s = s~ sin^2(theta)``, theta is uniform in time on [0, pi/2]; the integrand is
+    piecewise linear in s with kinks where the clip starts and ends and where it changes
+    sign, and ``int sin^2 = theta/2 - sin(2 theta)/4`` integrates each piece exactly.
+    """
+    s = np.asarray(s_max, float)
+
+    def theta(x):
+        return np.arcsin(np.sqrt(np.clip(x / s, 0.0, 1.0)))
+
+    def prim(th):
+        return 0.5 * th - 0.25 * np.sin(2.0 * th)
+
+    t1, t0, t2 = theta(-2.0 * (c + a)), theta(-2.0 * a), theta(2.0 * (c - a))
+    integral = (
+        c * t1
+        - a * (t0 - t1)
+        - 0.5 * s * (prim(t0) - prim(t1))
+        + a * (t2 - t0)
+        + 0.5 * s * (prim(t2) - prim(t0))
+        + c * (0.5 * np.pi - t2)
+    )
+    return integral / (0.5 * np.pi)
+
+
+def mean_abs_force(s_max, fp, k, cycles):
+    """Time mean of the actuator force |F_c| = k |e| (N) over ``cycles`` sin^2 strokes.
+
+    Each half stroke (contraction, re-extension) takes half the period; the elongation
+    follows the stop operator of the module doc, so the mean is exact (no sampling).
+    """
+    s, fp, k = np.asarray(s_max, float), np.asarray(fp, float), np.asarray(k, float)
+    n = np.asarray(cycles, float)
+    c = fp / k
+    top, bottom = _elongation_bounds(s, c)
+    down = _half_cycle_mean_abs(top - 0.5 * s, s, c)  # every re-extension
+    first = 0.5 * (_half_cycle_mean_abs(np.zeros_like(c), s, c) + down)
+    later = 0.5 * (_half_cycle_mean_abs(bottom, s, c) + down)
+    return k * (first + (n - 1) * later) / n
+
+
+def peak_force(s_max, fp, k):
+    """Largest actuator force |F_c| (N) of the run: k s~/2, capped at F_p by sliding."""
+    s, fp, k = np.asarray(s_max, float), np.asarray(fp, float), np.asarray(k, float)
+    return np.minimum(0.5 * k * s, fp)
+
+
+def dissipation(s_max, fp, k, cycles):
+    """Friction dissipation over ``cycles`` cycles (mJ): F_p times the tips' slip, with
+    the slips of the stop operator (left tip in cycle 1: s~ - 2c, later s~ - 4c; right tip
+    s~ - 4c every cycle in regime 3). With :func:`work` and the final elastic energy
+    ``k e_bottom^2`` it closes the balance W = E_el + D, an independent check."""
+    s, fp, k = np.asarray(s_max, float), np.asarray(fp, float), np.asarray(k, float)
+    n = np.asarray(cycles, float)
+    c = fp / k
+    left_first = np.maximum(s - 2 * c, 0.0)
+    later = np.maximum(s - 4 * c, 0.0)
+    return fp * (left_first + later + (n - 1) * 2 * later)
+
+
+def final_elastic_energy(s_max, fp, k):
+    """Elastic energy stored in the two springs at the end of every cycle (mJ)."""
+    _, bottom = _elongation_bounds(s_max, np.asarray(fp, float) / np.asarray(k, float))
+    return np.asarray(k, float) * bottom**2
+
+
 @dataclass(frozen=True)
 class TwoBristleTrajectory:
     """Closed-form state along a stroke history (arrays shaped like the input ``s``).

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from bristlecrawler.reduced.crawler import (
@@ -63,15 +64,14 @@ class ReducedConfig(BaseModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> ReducedConfig:
-        fn = self.fn if self.fn is not None else DEFAULT_FN_OVER_FP * self.fp
-        if fn < self.fp:
-            raise ValueError(f"fn ({fn:g} N) must be >= fp ({self.fp:g} N)")
-        seg = self.length / (self.bristles - 1)
         if self.history is not None and self.actuator == "sma":
             raise ValueError("give either a history file or actuator = 'sma', not both")
-        if self.history is None and self.s_max >= seg:
-            what = "length L" if self.bristles == 2 else f"segment length L/(N-1) = {seg:g} mm"
-            raise ValueError(f"s_max ({self.s_max:g} mm) must be smaller than the {what}")
+        fn = np.nan if self.fn is None else self.fn
+        found = first_inconsistency(
+            self.fp, fn, self.s_max, self.length, self.bristles, self.history is not None
+        )
+        if found is not None:
+            raise ValueError(found[1])
         return self
 
     @property
@@ -81,3 +81,32 @@ class ReducedConfig(BaseModel):
     @property
     def lag_resolved(self) -> float:
         return self.lag if self.lag is not None else self.period / 4
+
+
+def first_inconsistency(fp, fn, s_max, length, bristles, history: bool = False):
+    """The first of a batch of configurations whose values contradict each other, as
+    ``(index, message)`` (index into the broadcast, flattened arrays), or None.
+
+    Vectorised so that a design study checks millions of designs at once; fn = NaN stands
+    for the default F_n. ``history``: the stroke comes from a file (no bound on s_max here).
+    """
+    fp, fn, s_max, length, bristles = (
+        a.ravel()
+        for a in np.broadcast_arrays(
+            *(np.asarray(v, float) for v in (fp, fn, s_max, length, bristles))
+        )
+    )
+    fn = np.where(np.isnan(fn), DEFAULT_FN_OVER_FP * fp, fn)
+    bad = fn < fp
+    if bad.any():
+        i = int(np.argmax(bad))
+        return i, f"fn ({fn[i]:g} N) must be >= fp ({fp[i]:g} N)"
+    if history:
+        return None
+    seg = length / (bristles - 1)
+    bad = s_max >= seg
+    if bad.any():
+        i = int(np.argmax(bad))
+        what = "length L" if bristles[i] == 2 else f"segment length L/(N-1) = {seg[i]:g} mm"
+        return i, f"s_max ({s_max[i]:g} mm) must be smaller than the {what}"
+    return None

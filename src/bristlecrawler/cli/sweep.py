@@ -1,0 +1,95 @@
+"""``bristlecrawler sweep``: a design study of the reduced or the FE model on Dask."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def sweep_cmd(
+    study: Annotated[
+        str,
+        typer.Argument(
+            help="shipped study (inclination, bristles, bristles-fe, texture, stroke) or a TOML file"
+        ),
+    ],
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", help="study folder [default: runs/<stamp>-sweep-<name>]"),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="address of a running Dask scheduler, e.g. tcp://host:8786 "
+            "[default: a local cluster of processes]",
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", help="workers of the local cluster [default: one per core]"),
+    ] = None,
+    resume: Annotated[
+        bool,
+        typer.Option(
+            "--resume", help="complete the study already in --out, skipping its done designs"
+        ),
+    ] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the figures")] = False,
+    progress: Annotated[
+        bool | None,
+        typer.Option(
+            "--progress/--no-progress",
+            help="progress bar [default: on a terminal; else one line per finished design]",
+        ),
+    ] = None,
+) -> None:
+    """Run a design study: every design of the study file's axes, one Dask task each
+    (chunks of designs for the reduced model), each result written the moment it ends.
+
+    Writes study.json, meta.json, parts/ (one file per finished task), study.zarr (every
+    output on the design axes), designs.csv and figures/ in the study folder. Killed, the
+    same command with --resume completes it.
+    """
+    from bristlecrawler.studies.runner import SweepOptions, run_sweep
+
+    options = SweepOptions(
+        out=out,
+        scheduler=scheduler,
+        workers=workers,
+        resume=resume,
+        figures=not no_figures,
+        progress=progress,
+        command="bristlecrawler " + shlex.join(sys.argv[1:]),
+    )
+    summary = run_sweep(study, options)
+    if as_json:
+        typer.echo(json.dumps(summary))
+        return
+    _print_summary(summary)
+
+
+def _print_summary(summary: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"study {summary['study']} ({summary['model']} model)")
+    table.add_column("designs")
+    table.add_column("count", justify="right")
+    for key in ("total", "done", "failed", "lost", "pending"):
+        table.add_row(key, str(summary[f"designs_{key}"]))
+    console = Console()
+    console.print(table)
+    console.print(f"store: {summary['store']}")
+    if summary["figures"]:
+        console.print(f"figures: {Path(summary['figures'][0]).parent}")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("sweep")(sweep_cmd)

@@ -1,0 +1,170 @@
+"""One design (fe) or a chunk of designs (reduced) in, the per-design outputs out.
+
+A design that fails is a value (status FAILED and its message), not an exception: the
+other designs of the study go on.
+"""
+
+from __future__ import annotations
+
+import enum
+import time
+from typing import Any
+
+import numpy as np
+
+# name -> (unit, description); every design of every model gives all of them.
+OUTPUTS: dict[str, tuple[str, str]] = {
+    "net_advance_mm": ("mm", "displacement of the front end at the end of the run"),
+    "advance_per_cycle_mm": ("mm", "net advance divided by the number of cycles"),
+    "last_cycle_advance_mm": ("mm", "advance of the last cycle (the steady gait)"),
+    "work_mJ": ("mJ", "actuator (connector) work over the run"),
+    "cost_of_transport_mJ_per_mm": (
+        "mJ/mm",
+        "work per mm of net advance (NaN where the crawler does not advance)",
+    ),
+    "mean_abs_connector_force_N": ("N", "time mean of the actuator force |F_c|"),
+    "max_abs_connector_force_N": ("N", "largest actuator force |F_c|"),
+    "energy_balance_rel_error": ("1", "energy-balance residual relative to the work"),
+    "steps": ("1", "time steps (fe) or samples (reduced exact solver; 0: closed form)"),
+    "newton_iterations": ("1", "Newton iterations (fe; 0 for the reduced model)"),
+    "wall_time_s": ("s", "wall time of the design on its worker"),
+}
+INTEGER_OUTPUTS = ("steps", "newton_iterations")
+
+
+class DesignStatus(enum.IntEnum):
+    """State of a design in the store (one meaning across the package)."""
+
+    PENDING = 0  # not evaluated yet (a sweep that was stopped)
+    DONE = 1
+    FAILED = 2  # the model refused or could not finish it: see its error message
+    LOST = 3  # its task's worker died more often than the scheduler retries
+
+
+def _derived(out: dict[str, Any], cycles) -> dict[str, Any]:
+    adv = np.asarray(out["net_advance_mm"], float)
+    work = np.asarray(out["work_mJ"], float)
+    out["advance_per_cycle_mm"] = adv / np.asarray(cycles, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out["cost_of_transport_mJ_per_mm"] = np.where(adv > 0, work / adv, np.nan)
+    return out
+
+
+def evaluate_fe(scenario: dict[str, Any]) -> dict[str, Any]:
+    """Run one FE design (a scenario as a dict) and reduce its history to the outputs."""
+    from bristlecrawler.crawler import run
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import scenario_from_dict
+
+    sc = scenario_from_dict(scenario, "design")
+    summary = run(to_spec(sc)).summary()
+    per_cycle = summary["advance_per_cycle_mm"]
+    out = {k: summary[k] for k in OUTPUTS if k in summary}
+    out["last_cycle_advance_mm"] = per_cycle[-1] if per_cycle else np.nan
+    return {k: float(v) for k, v in _derived(out, sc.actuation.cycles).items()}
+
+
+def _closed_form(s, fp, k, n) -> dict[str, np.ndarray]:
+    """Two-bristle crawler, sin^2 stroke: the closed forms, vectorised over designs."""
+    from bristlecrawler.reduced import closed_form as cf
+
+    c = fp / k
+    work = cf.work(s, fp, k, n)
+    dissipation = cf.dissipation(s, fp, k, n)
+    elastic = cf.final_elastic_energy(s, fp, k)
+    scale = np.maximum.reduce([np.abs(work), dissipation, elastic])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        balance = np.where(scale > 0, np.abs(work - elastic - dissipation) / scale, 0.0)
+    out = {
+        "net_advance_mm": cf.net_advance(s, c, n),
+        "last_cycle_advance_mm": np.where(
+            n > 1, cf.net_advance_later(s, c), cf.net_advance_first(s, c)
+        ),
+        "work_mJ": work,
+        "mean_abs_connector_force_N": cf.mean_abs_force(s, fp, k, n),
+        "max_abs_connector_force_N": cf.peak_force(s, fp, k),
+        "energy_balance_rel_error": balance,
+        "steps": np.zeros(s.shape),
+        "newton_iterations": np.zeros(s.shape),
+    }
+    return _derived(out, n)
+
+
+def evaluate_reduced(config: dict[str, Any]) -> dict[str, float]:
+    """One reduced design with the exact solver (any number of bristles, gait, stroke)."""
+    from bristlecrawler.jobs.reduced import build
+    from bristlecrawler.reduced.simulate import simulate
+    from bristlecrawler.scenario.reduced import ReducedConfig
+    from bristlecrawler.scenario.strict import parse_model
+
+    cfg = parse_model(ReducedConfig, config)
+    crawler, gait = build(cfg)
+    r = simulate(crawler, gait, cfg.cycles, cfg.samples_per_cycle)
+    adv, _ = r.per_cycle()
+    # The actuator of segment j carries the bristle forces on its left: F_c = -sum_{i<=j} F_i.
+    fc = np.abs(np.cumsum(r.force, axis=1)[:, :-1])
+    span = max(float(r.t[-1] - r.t[0]), 1e-300)
+    out = {
+        "net_advance_mm": r.net_advance,
+        "last_cycle_advance_mm": float(adv[-1]) if adv.size else np.nan,
+        "work_mJ": float(r.work[-1]),
+        "mean_abs_connector_force_N": float(np.trapezoid(fc.mean(axis=1), r.t) / span),
+        "max_abs_connector_force_N": float(fc.max()),
+        "energy_balance_rel_error": r.energy_balance_error,
+        "steps": int(r.t.size),
+        "newton_iterations": 0,
+    }
+    return {k: float(v) for k, v in _derived(out, cfg.cycles).items()}
+
+
+def evaluate_reduced_chunk(
+    base: dict[str, Any], values: dict[str, np.ndarray], solver: str = "auto"
+) -> dict[str, np.ndarray]:
+    """A chunk of reduced designs: ``base`` options with ``values`` (key -> array over the
+    chunk's designs). Closed forms in bulk where they hold exactly (two bristles, sin^2
+    stroke; with ``solver = 'auto'``), the exact solver design by design elsewhere.
+    Returns every output, ``status`` and ``error`` (arrays over the chunk)."""
+    n = len(next(iter(values.values())))
+
+    def col(key: str) -> np.ndarray:
+        if key in values:
+            return np.asarray(values[key])
+        return np.full(n, base[key], dtype=object if base[key] is None else None)
+
+    res = {k: np.full(n, np.nan) for k in OUTPUTS}
+    status = np.full(n, int(DesignStatus.DONE), np.int8)
+    error = np.full(n, "", dtype=object)
+    bulk = (
+        (col("bristles") == 2)
+        & (col("stroke") == "sin2")
+        & (col("actuator") == "sin2")
+        & (col("history") == None)  # noqa: E711 (elementwise)
+    )
+    if solver != "auto":
+        bulk[:] = False
+    if bulk.any():
+        t0 = time.perf_counter()
+        args = (col(k)[bulk].astype(float) for k in ("s_max", "fp", "k", "cycles"))
+        for k, v in _closed_form(*args).items():
+            res[k][bulk] = v
+        res["wall_time_s"][bulk] = (time.perf_counter() - t0) / bulk.sum()
+    for i in np.flatnonzero(~bulk):
+        t0 = time.perf_counter()
+        try:
+            row = base | {k: _python(np.asarray(v)[i]) for k, v in values.items()}
+            for k, v in evaluate_reduced(row).items():
+                res[k][i] = v
+        except Exception as exc:  # a failed design is recorded, the others go on
+            status[i], error[i] = DesignStatus.FAILED, _one_line(exc)
+        res["wall_time_s"][i] = time.perf_counter() - t0
+    return res | {"status": status, "error": error.astype(str)}
+
+
+def _python(value: Any) -> Any:
+    """A numpy scalar as its Python value (an object array's items already are)."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return f"{type(exc).__name__}: {text}"[:500]

@@ -1,0 +1,152 @@
+"""Dask execution: one task per design (fe) or per chunk of designs (reduced).
+
+The client connects to a running scheduler (``tcp://host:port``: dask-jobqueue on SLURM
+or PBS, Kubernetes, a cloud service) or starts a ``LocalCluster`` of processes, one
+single-threaded worker per core (the FE solver is not thread-parallel per design, and
+JAX in one process per worker keeps each worker's compiled programs to itself). A
+worker that dies has its task rerun elsewhere by the scheduler
+(``distributed.scheduler.allowed-failures``); only when those retries are spent are the
+task's designs recorded as lost.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from bristlecrawler.errors import InputError
+from bristlecrawler.studies.evaluate import OUTPUTS, DesignStatus, _one_line
+
+CONNECT_TIMEOUT_S = 15.0
+
+
+def fe_task(base: dict[str, Any], overrides: list[dict[str, Any]]) -> dict[str, np.ndarray]:
+    """Run FE designs (the base scenario with each design's overrides) on a worker."""
+    from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.studies.designs import with_overrides
+    from bristlecrawler.studies.evaluate import evaluate_fe
+
+    enable_compilation_cache()
+    n = len(overrides)
+    res = {k: np.full(n, np.nan) for k in OUTPUTS}
+    status = np.full(n, int(DesignStatus.DONE), np.int8)
+    error = [""] * n
+    for i, ov in enumerate(overrides):
+        t0 = time.perf_counter()
+        try:
+            for k, v in evaluate_fe(with_overrides(base, ov)).items():
+                res[k][i] = v
+        except Exception as exc:  # a failed design is recorded, the others go on
+            status[i], error[i] = DesignStatus.FAILED, _one_line(exc)
+        res["wall_time_s"][i] = time.perf_counter() - t0
+    return res | {"status": status, "error": np.asarray(error, dtype=str)}
+
+
+def reduced_task(
+    base: dict[str, Any], values: dict[str, np.ndarray], solver: str
+) -> dict[str, np.ndarray]:
+    """Evaluate a chunk of reduced designs on a worker."""
+    from bristlecrawler.studies.evaluate import evaluate_reduced_chunk
+
+    return evaluate_reduced_chunk(base, values, solver)
+
+
+def lost_result(n: int, message: str) -> dict[str, np.ndarray]:
+    """The record of a task whose designs could not be evaluated (worker lost)."""
+    return {k: np.full(n, np.nan) for k in OUTPUTS} | {
+        "status": np.full(n, int(DesignStatus.LOST), np.int8),
+        "error": np.full(n, message[:500], dtype=object).astype(str),
+    }
+
+
+def connect(scheduler: str | None, workers: int | None, timeout_s: float = CONNECT_TIMEOUT_S):
+    """A Dask client (and the LocalCluster it owns, or None). An unreachable scheduler is
+    an InputError after ``timeout_s`` seconds."""
+    from distributed import Client, LocalCluster
+
+    logging.getLogger("distributed").setLevel(logging.ERROR)
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=timeout_s, set_as_default=False, asynchronous=False)
+        except (OSError, TimeoutError, ValueError) as exc:
+            reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+            raise InputError(
+                f"cannot reach the Dask scheduler at {scheduler} within {timeout_s:g} s ({reason})"
+            ) from None
+        return client, None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(
+        n_workers=n,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    )
+    return Client(cluster, set_as_default=False), cluster
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit of work: its number, its designs' numbers, the function and arguments."""
+
+    number: int
+    index: np.ndarray
+    fn: Callable
+    args: tuple
+
+
+def run_tasks(client, tasks: list[Task], prefix: str, on_done, on_tick=None) -> None:
+    """Submit ``tasks`` and call ``on_done(task, result)`` in the client as each finishes
+    (a lost task gets :func:`lost_result`); ``on_tick(running_designs)`` every 0.25 s."""
+    from distributed import as_completed
+
+    futures = {}
+    for task in tasks:
+        fut = client.submit(task.fn, *task.args, key=f"{prefix}-{task.number}", pure=False)
+        futures[fut] = task
+    by_key = {f.key: t for f, t in futures.items()}
+    pending = as_completed(list(futures), loop=client.loop)
+    left = len(futures)
+    while left:
+        batch = pending.next_batch(block=False)
+        for fut in batch:
+            task = futures[fut]
+            left -= 1
+            if fut.status == "finished":
+                on_done(task, fut.result())
+            else:
+                on_done(task, lost_result(task.index.size, f"task lost: {_why(fut)}"))
+            fut.release()
+        if not batch and on_tick is not None:
+            on_tick(_running(client, by_key))
+        if not batch:
+            time.sleep(0.25)
+
+
+def _why(fut) -> str:
+    """Why a future ended without a result (KilledWorker, a scheduler gone, ...)."""
+    try:
+        exc = fut.exception(timeout=5)
+    except Exception as other:  # cancelled or unreachable: that is the reason
+        exc = other
+    return _one_line(exc) if exc is not None else f"task {fut.status}"
+
+
+def _running(client, by_key) -> int:
+    """Designs of the tasks that workers are running now (a worker's queue beyond its
+    threads is waiting, not running)."""
+    try:
+        processing, threads = client.processing(), client.nthreads()
+    except Exception:  # a scheduler that went away shows in the futures themselves
+        return 0
+    busy = 0
+    for worker, keys in processing.items():
+        ours = [by_key[k].index.size for k in keys if k in by_key]
+        busy += sum(ours[: threads.get(worker, 1)])
+    return busy

@@ -1,0 +1,199 @@
+"""A sweep from start to end: check everything, run what is left on Dask, gather, plot.
+
+1. Load the study, resolve its base, expand and validate every design (one line, exit 2
+   on the first bad one: nothing written).
+2. Check the output folder (another study's results, or this one's without resume, are
+   refused) and connect to the scheduler (unreachable: refused), still before writing.
+3. Submit the tasks that have no part file yet; write each task's part as it finishes.
+4. Gather the parts into ``study.zarr`` (and ``designs.csv``), draw the figures.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from bristlecrawler.errors import InputError
+from bristlecrawler.studies import execute, store
+from bristlecrawler.studies.designs import Base, Designs, expand, resolve_base
+from bristlecrawler.studies.evaluate import DesignStatus
+from bristlecrawler.studies.schema import Study, load_study
+from bristlecrawler.studies.validate import validate_designs
+
+
+@dataclass(frozen=True)
+class SweepOptions:
+    """out: study folder [default runs/<stamp>-sweep-<name>]; scheduler: address of a
+    running Dask scheduler [default: a LocalCluster]; workers: LocalCluster workers
+    [default: one per core]; resume: complete the study already in ``out``; figures:
+    draw them; progress: bar on stderr [default: on a terminal]; command: for meta.json;
+    connect_timeout_s: how long to try to reach ``scheduler`` before giving up."""
+
+    out: Path | None = None
+    scheduler: str | None = None
+    workers: int | None = None
+    resume: bool = False
+    figures: bool = True
+    progress: bool | None = None
+    command: str = ""
+    connect_timeout_s: float = execute.CONNECT_TIMEOUT_S
+
+    def __post_init__(self) -> None:
+        if self.workers is not None and self.workers < 1:
+            raise InputError(f"--workers must be >= 1, got {self.workers}")
+        if self.workers is not None and self.scheduler is not None:
+            raise InputError("--workers sizes the local cluster; not with --scheduler")
+        if self.resume and self.out is None:
+            raise InputError("--resume needs --out (the folder of the study to complete)")
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A validated study, ready to run."""
+
+    study: Study
+    base: Base
+    designs: Designs
+    resolved: dict[str, Any]
+
+
+def plan(study_ref: str) -> Plan:
+    """Load, resolve, expand and validate a study (InputError on the first problem)."""
+    study, folder = load_study(study_ref)
+    base = resolve_base(study, folder)
+    designs = expand(study, base)
+    validate_designs(base, designs)
+    identity = study.model_dump(mode="json", exclude={"base", "description"})
+    resolved: dict[str, Any] = {"study": identity, "base_config": base.config}
+    resolved = {"fingerprint": store.fingerprint(resolved)} | resolved
+    resolved["study"]["description"] = study.description
+    return Plan(study, base, designs, resolved)
+
+
+def tasks_of(p: Plan) -> list[execute.Task]:
+    """The study's tasks in order: ``chunk`` consecutive designs each."""
+    chunk, n = p.study.tasks_chunk, p.designs.n
+    out = []
+    for number, start in enumerate(range(0, n, chunk)):
+        index = np.arange(start, min(start + chunk, n))
+        if p.base.model == "fe":
+            args = (p.base.config, [p.designs.overrides(int(i)) for i in index])
+            out.append(execute.Task(number, index, execute.fe_task, args))
+        else:
+            values = {k: p.designs.values[k][index] for k in p.designs.keys}
+            args = (p.base.config, values, p.study.reduced_solver)
+            out.append(execute.Task(number, index, execute.reduced_task, args))
+    return out
+
+
+def _default_out(name: str) -> Path:
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
+    path, i = Path("runs") / f"{stamp}-sweep-{name}", 1
+    while path.exists():
+        path = path.with_name(f"{stamp}-sweep-{name}-{i}")
+        i += 1
+    return path
+
+
+def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, Any]:
+    """Run (or complete, with ``resume``) a study; returns the summary."""
+    from bristlecrawler import __version__
+    from bristlecrawler.io.runs import git_revision
+
+    opt = options or SweepOptions()
+    wall0 = time.perf_counter()
+    p = plan(study_ref)
+    out = opt.out if opt.out is not None else _default_out(p.study.name)
+    resuming = store.check_folder(out, p.resolved, opt.resume)
+    finished = store.finished_tasks(out) if resuming else set()
+    todo = [t for t in tasks_of(p) if t.number not in finished]
+    client = cluster = None
+    if todo:
+        client, cluster = execute.connect(opt.scheduler, opt.workers, opt.connect_timeout_s)
+    meta = {
+        "package_version": __version__,
+        "git_revision": git_revision(),
+        "command": opt.command,
+        "started_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "scheduler": opt.scheduler or f"LocalCluster({opt.workers or 'one per core'})",
+        "dashboard": None if client is None else client.dashboard_link,
+    }
+    try:
+        store.start_folder(out, p.resolved, meta)
+        if todo:
+            _run(p, out, todo, client, opt.progress)
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    return _finish(p, out, meta, opt, len(todo), time.perf_counter() - wall0)
+
+
+def _run(p: Plan, out: Path, todo, client, progress) -> None:
+    from bristlecrawler.studies.progress import SweepProgress
+
+    done_before = p.designs.n - sum(t.index.size for t in todo)
+    bar = SweepProgress(p.designs.n, done_before, 0, enabled=progress)
+
+    def on_done(task: execute.Task, result) -> None:
+        store.write_part(out, task.number, task.index, result)
+        failed = int(np.sum(result["status"] != DesignStatus.DONE))
+        if task.index.size == 1:
+            word = DesignStatus(int(result["status"][0])).name.lower()
+            text = f"{p.designs.label(int(task.index[0]))} {word}"
+            if failed:
+                text += f": {result['error'][0]}"
+            else:
+                text += f" in {result['wall_time_s'][0]:.1f} s"
+        else:
+            text = f"designs {task.index[0]}-{task.index[-1]}: {failed} not done"
+        bar.finished(text, task.index.size, failed)
+
+    try:
+        execute.run_tasks(client, todo, f"sweep-{p.resolved['fingerprint']}", on_done, bar.running)
+    finally:
+        bar.close()
+
+
+def _finish(p: Plan, out: Path, meta, opt: SweepOptions, ran: int, wall: float) -> dict:
+    import json
+
+    attrs = {
+        "study_name": p.study.name,
+        "model": p.study.model,
+        "study": json.dumps(p.resolved),
+        "fingerprint": p.resolved["fingerprint"],
+        "package_version": meta["package_version"],
+        "git_revision": meta["git_revision"],
+    }
+    ds = store.gather(out, p.designs, attrs)
+    path = store.write_store(out, ds)
+    figures = []
+    if opt.figures and p.designs.n > 0:
+        from bristlecrawler.studies.figures import plot_maps, plot_outputs
+
+        folder = out / "figures"
+        folder.mkdir(exist_ok=True)
+        figures = plot_outputs(ds, list(p.designs.keys), folder)
+        figures += plot_maps(ds, list(p.designs.keys), folder)
+    status = ds.status.values
+    return {
+        "study": p.study.name,
+        "model": p.study.model,
+        "designs_total": int(status.size),
+        "designs_done": int(np.sum(status == DesignStatus.DONE)),
+        "designs_failed": int(np.sum(status == DesignStatus.FAILED)),
+        "designs_lost": int(np.sum(status == DesignStatus.LOST)),
+        "designs_pending": int(np.sum(status == DesignStatus.PENDING)),
+        "tasks_run": ran,
+        "store": str(path),
+        "output_dir": str(out),
+        "figures": [str(f) for f in figures],
+        "wall_time_s": wall,
+    }
