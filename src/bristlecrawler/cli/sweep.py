@@ -15,7 +15,8 @@ def sweep_cmd(
     study: Annotated[
         str,
         typer.Argument(
-            help="shipped study (inclination, bristles, bristles-fe, texture, stroke) or a TOML file"
+            help="shipped study (inclination, bristles, bristles-fe, texture, stroke) "
+            "or a TOML file"
         ),
     ],
     out: Annotated[
