@@ -67,6 +67,12 @@ def reduced_cmd(
     out: Annotated[
         Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
     ] = None,
+    replace: Annotated[
+        bool,
+        typer.Option(
+            "--replace", help="replace the run (complete or not) in --out once this one is done"
+        ),
+    ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the PNG figures")] = False,
 ) -> None:
@@ -77,6 +83,7 @@ def reduced_cmd(
     delta_vs_s.png, friction_law.png, summary.json, config.json and meta.json.
     """
     from bristlecrawler.io.config import parse_model
+    from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.io.reduced_config import ReducedConfig
     from bristlecrawler.jobs.reduced import run_reduced
 
@@ -104,9 +111,12 @@ def reduced_cmd(
         out=out,
         figures=not no_figures,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
+        replace=replace,
     )
+    for line in (*run.notes, *run.summary.get("warnings", ())):
+        typer.echo(f"warning: {line}", err=True)
     if as_json:
-        typer.echo(json.dumps(run.summary))
+        typer.echo(dumps_strict(run.summary))
         return
     _print_summary(run.summary)
 

@@ -2,21 +2,19 @@
 
 from bristlecrawler.io.atomic import atomic_path, atomic_write_text
 from bristlecrawler.io.config import parse_model
-from bristlecrawler.io.runs import (
-    RunInfo,
-    check_out_dir,
-    git_revision,
-    prepare_run_dir,
-    write_run_metadata,
-)
+from bristlecrawler.io.jsonio import dumps_strict
+from bristlecrawler.io.provenance import RunInfo, git_revision
+from bristlecrawler.io.runs import RunFolder, check_out_dir, claim_run_dir, run_status
 
 __all__ = [
+    "RunFolder",
     "RunInfo",
     "atomic_path",
     "atomic_write_text",
     "check_out_dir",
+    "claim_run_dir",
+    "dumps_strict",
     "git_revision",
     "parse_model",
-    "prepare_run_dir",
-    "write_run_metadata",
+    "run_status",
 ]

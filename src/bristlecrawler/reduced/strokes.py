@@ -122,10 +122,13 @@ def read_history_csv(path: str) -> SampledStroke:
     import csv
     import os
 
+    if not isinstance(path, str | os.PathLike):
+        raise InputError(f"history must be a file name, got {path!r}")
     if not os.path.isfile(path):
         raise InputError(f"history file not found: {path}")
     try:
-        with open(path, newline="", encoding="utf-8") as fh:
+        # utf-8-sig: spreadsheet programs start a CSV with a byte-order mark.
+        with open(path, newline="", encoding="utf-8-sig") as fh:
             reader = csv.reader(
                 row for row in fh if row.strip() and not row.lstrip().startswith("#")
             )
@@ -152,4 +155,8 @@ def read_history_csv(path: str) -> SampledStroke:
                     ) from None
     except UnicodeDecodeError:
         raise InputError(f"history file {path} is not a UTF-8 text CSV file") from None
+    except csv.Error as exc:
+        raise InputError(f"history file {path} is not a readable CSV file ({exc})") from None
+    except OSError as exc:
+        raise InputError(f"cannot read history file {path}: {exc.strerror}") from None
     return SampledStroke(np.array(t), np.array(s))

@@ -14,19 +14,29 @@ class _Section(StrictSection):
     """A section of a scenario (see :class:`StrictSection`)."""
 
 
-def _pos(default: float, text: str):
-    return Field(default, gt=0, allow_inf_nan=False, description=text)
+def _pos(default: float, text: str, le: float, ge: float | None = None):
+    """A positive physical quantity with an upper bound (and a lower one where a smaller
+    value would break the arithmetic rather than the physics)."""
+    if ge is None:
+        return Field(default, gt=0, le=le, allow_inf_nan=False, description=text)
+    return Field(default, ge=ge, le=le, allow_inf_nan=False, description=text)
+
+
+#: Largest length anywhere in a scenario, mm (10 m): the FE model's coordinates stay far
+#: from round-off trouble, and any real crawler fits.
+MAX_LENGTH = 1e4
 
 
 class BodyConfig(_Section):
     """Rigid body: a bar whose length follows the actuator, with point masses at its ends."""
 
-    length: float = _pos(100.0, "rest length of the connector between the two ends, mm")
-    end_mass: float = _pos(2.75e-5, "point mass at each end, t (27.5 g)")
+    length: float = _pos(100.0, "rest length of the connector between the two ends, mm", MAX_LENGTH)
+    end_mass: float = _pos(2.75e-5, "point mass at each end, t (27.5 g), at most 1 t", 1.0)
     link_length: float = _pos(
         10.0,
         "rigid vertical links from each end down to a bristle clamp, mm (not given in "
         "the paper; a studied parameter)",
+        MAX_LENGTH,
     )
     free_pitch: bool = Field(True, description="body free to pitch (else kept level)")
 
@@ -34,13 +44,15 @@ class BodyConfig(_Section):
 class BristleConfig(_Section):
     """Tapered rectangular silicone bristle (Shore A 40), clamped at alpha from the vertical."""
 
-    length: float = _pos(5.0, "bristle length, mm")
-    width: float = _pos(30.0, "out-of-plane width b, mm")
-    thickness_clamp: float = _pos(3.0, "thickness at the clamp h0, mm")
-    thickness_tip: float = _pos(0.5, "thickness at the tip h1, mm")
-    youngs_modulus: float = _pos(1.1, "Young's modulus E, MPa")
+    length: float = _pos(5.0, "bristle length, mm", MAX_LENGTH)
+    width: float = _pos(30.0, "out-of-plane width b, mm", MAX_LENGTH)
+    thickness_clamp: float = _pos(3.0, "thickness at the clamp h0, mm", MAX_LENGTH)
+    thickness_tip: float = _pos(0.5, "thickness at the tip h1, mm", MAX_LENGTH)
+    youngs_modulus: float = _pos(1.1, "Young's modulus E, MPa (1e-6 to 1e7)", 1e7, ge=1e-6)
     poisson_ratio: float = Field(0.45, gt=-1.0, lt=0.5, description="Poisson's ratio, -")
-    density: float = _pos(1.3e-9, "mass density, t/mm^3 (1.3 g/cm^3)")
+    density: float = _pos(
+        1.3e-9, "mass density, t/mm^3 (1.3 g/cm^3; 1e-15 to 1e-7)", 1e-7, ge=1e-15
+    )
     alpha_deg: float = Field(
         45.0,
         gt=-80.0,
@@ -60,19 +72,23 @@ class DampingConfig(_Section):
         0.15, ge=0.0, lt=1.0, description="damping ratio at the reference frequency, -"
     )
     kind: Literal["mass", "stiffness", "explicit"] = "mass"
-    a0: float = Field(0.0, ge=0.0, description="explicit mass coefficient, 1/s")
-    a1: float = Field(0.0, ge=0.0, description="explicit stiffness coefficient, s")
+    a0: float = Field(
+        0.0, ge=0.0, le=1e6, allow_inf_nan=False, description="explicit mass coefficient, 1/s"
+    )
+    a1: float = Field(
+        0.0, ge=0.0, le=1e3, allow_inf_nan=False, description="explicit stiffness coefficient, s"
+    )
 
 
 class ActuationConfig(_Section):
     """Step 2: the prescribed shortening of the body."""
 
     kind: Literal["sin2", "history", "sma"] = "sin2"
-    s_max: float = _pos(20.0, "peak shortening s~, mm")
-    period: float = _pos(20.0, "cycle period T, s")
+    s_max: float = _pos(20.0, "peak shortening s~, mm", MAX_LENGTH)
+    period: float = _pos(20.0, "cycle period T, s (1e-3 to 1e5)", 1e5, ge=1e-3)
     cycles: int = Field(5, ge=1, le=10_000, description="number of cycles")
     history: str | None = Field(None, description="CSV with columns t (s), s (mm)")
-    settle_time: float = _pos(0.5, "step 1 (gravity) duration, s")
+    settle_time: float = _pos(0.5, "step 1 (gravity) duration, s", 1e4)
 
     @model_validator(mode="after")
     def _history(self) -> ActuationConfig:
@@ -85,9 +101,13 @@ class SolverConfig(_Section):
     """Implicit dynamics with an adaptive step."""
 
     hht_alpha: float = Field(-0.05, ge=-1.0 / 3.0, le=0.0, description="HHT alpha, -")
-    dt_max: float = _pos(0.05, "largest time step, s")
-    dt_min: float = _pos(1e-6, "smallest time step before giving up, s")
-    tolerance: float = _pos(1e-8, "Newton tolerance on the relative residual, -")
+    dt_max: float = _pos(0.05, "largest time step, s", 1e3)
+    dt_min: float = _pos(
+        1e-6, "smallest time step before giving up, s (at least 1e-12)", 1e3, ge=1e-12
+    )
+    tolerance: float = _pos(
+        1e-8, "Newton tolerance on the relative residual, - (1e-15 to 0.1)", 0.1, ge=1e-15
+    )
     max_iterations: int = Field(
         25,
         ge=2,
@@ -187,6 +207,7 @@ class ContactConfig(_Section):
     penalty_load: float | None = Field(
         None,
         gt=0.0,
+        le=1e6,
         allow_inf_nan=False,
         description="load (N) at which penetration stays below 1e-3 mm and the stick drift "
         "below contact.stick_drift; default: the weight on one bristle",
@@ -194,6 +215,7 @@ class ContactConfig(_Section):
     stick_drift: float = Field(
         1e-4,
         gt=0.0,
+        le=1.0,
         allow_inf_nan=False,
         description="elastic tangential displacement in stick at the friction limit of the "
         "penalty load, mm (sets the stick penalty k_t = mu load / stick_drift). `paper` "
@@ -206,6 +228,7 @@ class ContactConfig(_Section):
     active_points: int | None = Field(
         16,
         ge=1,
+        le=100_000,
         description="broad phase: contact points evaluated per Newton iteration, the ones "
         "reaching lowest (the corner term is separate). Exact while at most this many "
         "points reach below the substrate's top (the paper run has up to 7); a run where "
@@ -234,7 +257,11 @@ class Scenario(_Section):
     damping: DampingConfig = DampingConfig()
     actuation: ActuationConfig = ActuationConfig()
     gravity: float = Field(
-        9810.0, ge=0.0, allow_inf_nan=False, description="gravitational acceleration, mm/s^2"
+        9810.0,
+        ge=0.0,
+        le=1e6,
+        allow_inf_nan=False,
+        description="gravitational acceleration, mm/s^2 (0 only with contact.penalty_load)",
     )
     solver: SolverConfig = SolverConfig()
     output: OutputConfig = OutputConfig()
@@ -246,6 +273,22 @@ class Scenario(_Section):
                 f"actuation.s_max ({self.actuation.s_max:g} mm) must be smaller than the body "
                 f"length ({self.body.length:g} mm)"
             )
+        if self.actuation.kind != "history":
+            _check_bristles_clear(self)
+        check_substrate_scale(self.substrate.model_dump())
+        if self.gravity == 0 and self.contact.penalty_load is None:
+            raise ValueError(
+                "gravity = 0 leaves no weight to press the bristles on the substrate and to "
+                "size the contact penalty: give gravity > 0 or contact.penalty_load (N)"
+            )
+        if self.actuation.kind != "history":
+            steps = (self.actuation.cycles * self.actuation.period) / self.solver.dt_max
+            if steps > MAX_STEPS:
+                raise ValueError(
+                    f"actuation.cycles x actuation.period / solver.dt_max = {steps:.3g} time "
+                    f"steps at least, more than {MAX_STEPS:g}: shorten the run or raise "
+                    "solver.dt_max"
+                )
         if self.bristle.thickness_tip > self.bristle.thickness_clamp * 50:
             raise ValueError("bristle.thickness_tip is implausibly larger than the clamp's")
         if self.solver.dt_min >= self.solver.dt_max:
@@ -256,3 +299,50 @@ class Scenario(_Section):
                 f"than solver.max_iterations ({self.solver.max_iterations})"
             )
         return self
+
+
+#: Most time steps a scenario may ask for (at least cycles * period / dt_max): the paper
+#: run takes about 2,400.
+MAX_STEPS = 1e6
+
+
+def _check_bristles_clear(sc: Scenario) -> None:
+    """The two bristles must not overlap at the peak shortening. Their clamps sit at the
+    body's ends, L - s~ apart at the peak; each bristle reaches length * sin(alpha) along
+    the body from its clamp (the tips trail), and the clamp is thickness_clamp thick."""
+    import math
+
+    gap = sc.body.length - sc.actuation.s_max
+    reach = sc.bristle.length * abs(math.sin(math.radians(sc.bristle.alpha_deg)))
+    need = reach + sc.bristle.thickness_clamp
+    if gap <= need:
+        raise ValueError(
+            f"actuation.s_max ({sc.actuation.s_max:g} mm) brings the bristle clamps "
+            f"{gap:g} mm apart at peak shortening (body.length - s_max); the bristles overlap "
+            f"unless that exceeds bristle.length * sin(alpha) + bristle.thickness_clamp = "
+            f"{need:.3g} mm"
+        )
+
+
+def check_substrate_scale(sub: dict) -> None:
+    """Bounds a ``[substrate]`` table's own schema does not state: lengths within
+    +-MAX_LENGTH mm (a phase of 1e308 mm divides to nonsense) and a friction coefficient of
+    at most 10. Numbers only; other values are left to the table's schema."""
+
+    def numbers(value):
+        if isinstance(value, bool):
+            return []
+        if isinstance(value, float | int):
+            return [value]
+        if isinstance(value, list | tuple):
+            return [x for v in value for x in numbers(v)]
+        return []
+
+    mu = numbers(sub.get("mu"))
+    if mu and mu[0] > 10.0:
+        raise ValueError(f"substrate.mu ({mu[0]:g}) must be at most 10")
+    for key, value in sub.items():
+        if key in ("kind", "mu", "rise_fraction"):
+            continue
+        if any(abs(v) > MAX_LENGTH for v in numbers(value)):
+            raise ValueError(f"substrate.{key} must be within +-{MAX_LENGTH:g} mm, got {value}")
