@@ -55,12 +55,16 @@ def analyze_cmd(
     """Analyse a recording: cycles, per-cycle advance, stick/slip transitions, fitted F_p/k
     with a bootstrap interval (and F_p, k with --work or a force channel)."""
     from bristlecrawler.experiment import ChannelMap, analyze, read_recording
-    from bristlecrawler.io.config import parse_model
+    from bristlecrawler.io.config import option_names, parse_model
     from bristlecrawler.io.experiment_config import AnalyzeOptions
     from bristlecrawler.io.jsonio import dumps_strict, finite_or_none
     from bristlecrawler.io.runs import check_out_dir, claim_run_dir
 
-    opts = parse_model(AnalyzeOptions, {"work": work, "rate": rate, "max_gap": max_gap})
+    opts = parse_model(
+        AnalyzeOptions,
+        {"work": work, "rate": rate, "max_gap": max_gap},
+        option_names(AnalyzeOptions),
+    )
     check_out_dir(out, replace)
     cmap = ChannelMap(
         time=time_col,
@@ -135,7 +139,7 @@ def synth_cmd(
     """Write a synthetic recording made by the reduced model with sensor artefacts."""
     from bristlecrawler.errors import InputError
     from bristlecrawler.experiment import SensorModel, synthetic_recording, write_csv, write_tdms
-    from bristlecrawler.io.config import parse_model
+    from bristlecrawler.io.config import option_names, parse_model
     from bristlecrawler.io.experiment_config import SynthOptions
     from bristlecrawler.io.runs import check_new_file
     from bristlecrawler.reduced import ReducedCrawler
@@ -154,6 +158,7 @@ def synth_cmd(
             "skip": skip,
             "seed": seed,
         },
+        option_names(SynthOptions),
     )
     check_new_file(path, replace)
     crawler = ReducedCrawler.two_bristle(fp=opts.fp, k=opts.k)

@@ -82,7 +82,7 @@ def reduced_cmd(
     5 cycles of s(t) = s~ sin^2(pi t / T), T = 20 s. Writes reduced.nc (xarray/NetCDF),
     delta_vs_s.png, friction_law.png, summary.json, config.json and meta.json.
     """
-    from bristlecrawler.io.config import parse_model
+    from bristlecrawler.io.config import option_names, parse_model
     from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.io.reduced_config import ReducedConfig
     from bristlecrawler.jobs.reduced import run_reduced
@@ -105,6 +105,7 @@ def reduced_cmd(
             "history": None if history is None else str(history),
             "samples_per_cycle": samples,
         },
+        option_names(ReducedConfig, samples_per_cycle="--samples-per-cycle"),
     )
     run = run_reduced(
         config,

@@ -28,15 +28,21 @@ class StrictSection(BaseModel):
         return data
 
 
-def first_error_message(exc: ValidationError, model: type[BaseModel] | None = None) -> str:
-    """One line: the first problem, naming the parameter, and (given the ``model``) what
-    the parameter is, with its unit, from the field's description."""
+def first_error_message(
+    exc: ValidationError,
+    model: type[BaseModel] | None = None,
+    names: dict[str, str] | None = None,
+) -> str:
+    """One line: the first problem, naming the parameter (as ``names`` spells it, e.g. a
+    command-line option), and (given the ``model``) what the parameter is, with its unit,
+    from the field's description."""
     err = exc.errors()[0]
     loc = [p for p in err.get("loc", ()) if p != "__root__"]
     msg = _bound_message(err) or str(err.get("msg", "invalid value"))
     msg = msg.removeprefix("Value error, ")
-    where = f"{'.'.join(str(p) for p in loc)}: " if loc else ""
     what = _description(model, loc) if model is not None else None
+    shown = [names.get(p, p) if names and i == 0 else p for i, p in enumerate(loc)]
+    where = f"{'.'.join(str(p) for p in shown)}: " if loc else ""
     if what and err.get("type") != "value_error":
         msg = f"{msg} ({what})"
     extra = f" (and {len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
@@ -87,9 +93,16 @@ def _description(model: type[BaseModel], loc: list) -> str | None:
     return _short(field.description)
 
 
-def parse_model(model: type[M], data: dict[str, Any]) -> M:
-    """Validate ``data`` into ``model``; raise :class:`InputError` with one line on failure."""
+def parse_model(model: type[M], data: dict[str, Any], names: dict[str, str] | None = None) -> M:
+    """Validate ``data`` into ``model``; raise :class:`InputError` with one line on failure
+    (naming a parameter as ``names`` spells it, if given)."""
     try:
         return model.model_validate(data)
     except ValidationError as exc:
-        raise InputError(first_error_message(exc, model)) from None
+        raise InputError(first_error_message(exc, model, names)) from None
+
+
+def option_names(model: type[BaseModel], **renamed: str) -> dict[str, str]:
+    """``{field: "--field-name"}`` for a model filled from command-line options; fields
+    whose option is spelt otherwise are given as ``field="--option"``."""
+    return {f: renamed.get(f, "--" + f.replace("_", "-")) for f in model.model_fields}

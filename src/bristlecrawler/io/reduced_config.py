@@ -16,7 +16,6 @@ from bristlecrawler.reduced.crawler import (
     PAPER_S_MAX,
 )
 
-
 #: Bounds of the physical parameters: lengths in mm (10 m), forces in N; F_p/k in mm.
 MAX_LENGTH = 1e4
 MIN_FORCE = 1e-9

@@ -96,14 +96,34 @@ def check_new_file(path: str | os.PathLike, replace: bool = False) -> None:
     writable folder, a name the file system takes, and not an existing file unless
     ``replace``."""
     path = Path(path)
-    if path.is_dir():
-        raise InputError(f"output file {path} is a folder")
-    _check_parent(path)
-    if path.exists() and not replace:
-        raise InputError(f"output file {path} exists; give --replace to overwrite it")
+    try:
+        if path.is_dir():
+            raise InputError(f"output file {_shown(path)} is a folder")
+        _check_parent(path)
+        if path.exists() and not replace:
+            raise InputError(f"output file {_shown(path)} exists; give --replace to overwrite it")
+    except OSError as exc:
+        raise InputError(f"cannot write {_shown(path)}: {_why(exc)}") from None
+
+
+def _shown(path: Path) -> str:
+    """``path`` for a one-line message: a very long one shortened."""
+    text = str(path)
+    return text if len(text) <= 100 else f"{text[:60]}...{text[-20:]}"
+
+
+def _why(exc: OSError) -> str:
+    return "name too long" if exc.errno == errno.ENAMETOOLONG else str(exc.strerror or exc)
 
 
 def _target(path: Path) -> Path:
+    try:
+        return _resolved_target(path)
+    except OSError as exc:
+        raise InputError(f"cannot use output folder {_shown(path)}: {_why(exc)}") from None
+
+
+def _resolved_target(path: Path) -> Path:
     if path.is_symlink():
         if not path.exists():
             raise InputError(f"output path {path} is a link to nothing")
@@ -114,20 +134,23 @@ def _target(path: Path) -> Path:
 
 
 def _check_parent(path: Path) -> None:
-    parent = path.absolute()
-    while not parent.exists():
-        parent = parent.parent
+    parent = path.absolute().parent
+    try:
+        while not parent.exists():
+            parent = parent.parent
+    except OSError as exc:
+        raise InputError(f"cannot use {_shown(path)}: {_why(exc)}") from None
     if not parent.is_dir():
-        raise InputError(f"cannot create output folder {path}: {parent} is not a folder")
+        raise InputError(f"cannot create {_shown(path)}: {_shown(parent)} is not a folder")
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"cannot create output folder {path}: {parent} is not writable")
+        raise InputError(f"cannot create {_shown(path)}: {_shown(parent)} is not writable")
     limit = os.pathconf(parent, "PC_NAME_MAX") if hasattr(os, "pathconf") else 255
     # The partial folder's name is the longest one the run creates beside the target.
     too_long = [p for p in path.parts if len(os.fsencode(p)) + 18 > limit]
     if too_long:
         raise InputError(
-            f"output folder name {path.name[:40]!r}... is too long for the file system "
-            f"(at most {limit - 18} bytes)"
+            f"a name in {_shown(path)} is too long for the file system (at most "
+            f"{limit - 18} bytes for an output folder)"
         )
 
 
@@ -336,8 +359,7 @@ def claim_run_dir(
             "wait for it to finish or give another --out"
         ) from None
     except OSError as exc:
-        why = "name too long" if exc.errno == errno.ENAMETOOLONG else exc.strerror
-        raise InputError(f"cannot create output folder {target}: {why}") from None
+        raise InputError(f"cannot create output folder {_shown(target)}: {_why(exc)}") from None
     try:
         notes = _recover(target)
         _check_state(target, replace)

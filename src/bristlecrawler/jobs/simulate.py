@@ -141,6 +141,21 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
     }
 
 
+def check_stroke(sc: Scenario, duration: float) -> None:
+    """InputError if the stroke (of ``duration`` s) makes the bristles overlap or needs too
+    many time steps: the schema's checks, for a history whose peak it cannot know."""
+    from bristlecrawler.scenario.schema import check_bristles_clear, check_step_count
+
+    try:
+        check_step_count(sc, duration)
+        if sc.actuation.kind == "history":
+            from bristlecrawler.reduced.strokes import read_history_csv
+
+            check_bristles_clear(sc, read_history_csv(sc.actuation.history).s_max)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+
+
 def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:
     """Indices of about ``per_cycle`` frames per cycle, evenly spaced in time."""
     span = float(h.frame_t[-1] - h.frame_t[0])
@@ -167,7 +182,7 @@ def run_simulation(
     from bristlecrawler.crawler import run as crawler_run
     from bristlecrawler.crawler.model import stroke_duration
 
-    stroke_duration(sc)  # reads and checks a history file before any work
+    check_stroke(sc, stroke_duration(sc))  # reads and checks a history file before any work
     options = crawler_run.RunOptions(progress=progress)
     if not write:
         h = crawler_run.simulate_crawler(sc, options)

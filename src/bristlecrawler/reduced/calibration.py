@@ -17,7 +17,6 @@ import numpy as np
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced import closed_form as cf
 
-
 #: Bounds of the measured inputs: stroke (mm), cycles, work (mJ). Beyond them the numbers
 #: are not a crawler's, and the closed forms overflow.
 MAX_S = 1e4

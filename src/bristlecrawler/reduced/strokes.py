@@ -16,6 +16,9 @@ import numpy as np
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced._checks import positive
 
+#: Largest time a history may hold, s (about 30 years).
+MAX_TIME = 1e9
+
 
 @dataclass(frozen=True)
 class Sin2Stroke:
@@ -83,6 +86,9 @@ class SampledStroke:
             raise InputError(
                 f"history: non-finite shortening at sample {int(np.argmin(np.isfinite(s)))}"
             )
+        if np.any(np.abs(t) > MAX_TIME):
+            i = int(np.argmax(np.abs(t) > MAX_TIME))
+            raise InputError(f"history: time {t[i]:g} s at sample {i} is beyond +-{MAX_TIME:g} s")
         bad = np.flatnonzero(np.diff(t) <= 0.0)
         if bad.size:
             raise InputError(

@@ -274,7 +274,7 @@ class Scenario(_Section):
                 f"length ({self.body.length:g} mm)"
             )
         if self.actuation.kind != "history":
-            _check_bristles_clear(self)
+            check_bristles_clear(self, self.actuation.s_max)
         check_substrate_scale(self.substrate.model_dump())
         if self.gravity == 0 and self.contact.penalty_load is None:
             raise ValueError(
@@ -282,13 +282,7 @@ class Scenario(_Section):
                 "size the contact penalty: give gravity > 0 or contact.penalty_load (N)"
             )
         if self.actuation.kind != "history":
-            steps = (self.actuation.cycles * self.actuation.period) / self.solver.dt_max
-            if steps > MAX_STEPS:
-                raise ValueError(
-                    f"actuation.cycles x actuation.period / solver.dt_max = {steps:.3g} time "
-                    f"steps at least, more than {MAX_STEPS:g}: shorten the run or raise "
-                    "solver.dt_max"
-                )
+            check_step_count(self, self.actuation.cycles * self.actuation.period)
         if self.bristle.thickness_tip > self.bristle.thickness_clamp * 50:
             raise ValueError("bristle.thickness_tip is implausibly larger than the clamp's")
         if self.solver.dt_min >= self.solver.dt_max:
@@ -306,18 +300,32 @@ class Scenario(_Section):
 MAX_STEPS = 1e6
 
 
-def _check_bristles_clear(sc: Scenario) -> None:
-    """The two bristles must not overlap at the peak shortening. Their clamps sit at the
-    body's ends, L - s~ apart at the peak; each bristle reaches length * sin(alpha) along
-    the body from its clamp (the tips trail), and the clamp is thickness_clamp thick."""
+def check_step_count(sc: Scenario, duration: float) -> None:
+    """ValueError if a stroke of ``duration`` s needs more than MAX_STEPS time steps of
+    solver.dt_max."""
+    steps = duration / sc.solver.dt_max
+    if steps > MAX_STEPS:
+        raise ValueError(
+            f"the stroke ({duration:.3g} s) takes at least {steps:.3g} time steps of "
+            f"solver.dt_max = {sc.solver.dt_max:g} s, more than {MAX_STEPS:g}: shorten the "
+            "run (actuation.cycles, actuation.period, the history) or raise solver.dt_max"
+        )
+
+
+def check_bristles_clear(sc: Scenario, s_max: float) -> None:
+    """ValueError if the two bristles overlap at the peak shortening ``s_max`` (mm). Their
+    clamps sit at the body's ends, L - s~ apart at the peak; each bristle reaches
+    length * sin(alpha) along the body from its clamp (the tips trail), and the clamp is
+    thickness_clamp thick."""
     import math
 
-    gap = sc.body.length - sc.actuation.s_max
+    gap = sc.body.length - s_max
     reach = sc.bristle.length * abs(math.sin(math.radians(sc.bristle.alpha_deg)))
     need = reach + sc.bristle.thickness_clamp
     if gap <= need:
         raise ValueError(
-            f"actuation.s_max ({sc.actuation.s_max:g} mm) brings the bristle clamps "
+            f"a peak shortening of {s_max:g} mm (actuation.s_max or the history) brings the "
+            "bristle clamps "
             f"{gap:g} mm apart at peak shortening (body.length - s_max); the bristles overlap "
             f"unless that exceeds bristle.length * sin(alpha) + bristle.thickness_clamp = "
             f"{need:.3g} mm"
