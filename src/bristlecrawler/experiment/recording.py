@@ -45,7 +45,7 @@ def _check_range(source: str, name: str, arr: np.ndarray) -> None:
     if big.size:
         i = int(big[0])
         raise InputError(
-            f"{source or 'recording'}: channel {name} sample {i} is {arr[i]:g} "
+            f"{source or 'recording'}: channel {name} sample {i} is {arr[i]:.12g} "
             f"{CHANNEL_UNITS[name]}, beyond +-{limit:g} {CHANNEL_UNITS[name]}"
         )
 

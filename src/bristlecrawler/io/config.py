@@ -66,6 +66,8 @@ def _bound_message(err: dict) -> str | None:
         return None
     op, key = _BOUNDS[err["type"]]
     bound, value = err.get("ctx", {}).get(key), err.get("input")
+    if isinstance(value, int) and not isinstance(value, bool):
+        return f"must be {op} {bound:g}, got {value}"
     try:
         return f"must be {op} {bound:g}, got {value:g}"
     except (TypeError, ValueError):
