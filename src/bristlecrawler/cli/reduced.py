@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import shlex
 import sys
 from pathlib import Path
@@ -161,12 +160,13 @@ def calibrate_cmd(
     as_json: Annotated[bool, typer.Option("--json", help="print JSON on stdout")] = False,
 ) -> None:
     """Calibrate F_p/k (and, with --work, F_p and k) from a measured gait (paper Section 4)."""
+    from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.reduced.calibration import calibrate
 
     cal = calibrate(s_max, cycles, advance, work)
     d = cal.as_dict()
     if as_json:
-        typer.echo(json.dumps(d))
+        typer.echo(dumps_strict(d))
         return
     typer.echo(f"F_p/k = {cal.fp_over_k_mm:.4f} mm (regime {cal.regime})")
     if cal.fp_N is not None:

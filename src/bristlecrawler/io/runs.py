@@ -180,9 +180,15 @@ class _Lock:
     """An exclusive ``flock`` on ``path``, taken without waiting."""
 
     def __init__(self, path: Path) -> None:
-        import fcntl
-
         self.path = path
+        try:
+            import fcntl
+        except ImportError:  # no flock (Windows): an exclusive create, not freed by a crash
+            try:
+                self.fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)
+            except FileExistsError:
+                raise BlockingIOError(f"{path} exists") from None
+            return
         while True:
             fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
             try:
