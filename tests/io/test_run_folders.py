@@ -102,6 +102,7 @@ def test_ctrl_c_during_the_solve_says_nothing_was_written(tmp_path):
     proc = _cli("reduced", "--cycles", "400", "--no-figures", "--out", "o", cwd=tmp_path)
     try:
         assert _wait_for(lambda: _partials(tmp_path)), "the run never claimed its folder"
+        time.sleep(0.3)  # into the solve
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)
     finally:

@@ -21,7 +21,6 @@ without ``"status": "complete"``, is reported as incomplete and replaced only on
 from __future__ import annotations
 
 import datetime as _dt
-import errno
 import json
 import os
 import re
@@ -34,6 +33,7 @@ from typing import Any
 from bristlecrawler.errors import InputError, Interrupted
 from bristlecrawler.io.atomic import atomic_write_text
 from bristlecrawler.io.jsonio import dumps_strict
+from bristlecrawler.io.output_paths import check_new_file, check_parent, output_folder, shown, why
 from bristlecrawler.io.provenance import RunInfo, git_revision
 
 #: ``meta.json`` "status" of a run whose every file was written.
@@ -86,72 +86,9 @@ def check_out_dir(out: str | os.PathLike | None, replace: bool = False) -> None:
     check without claiming, for commands that read large inputs first."""
     if out is None:
         return
-    path = _target(Path(out))
-    _check_parent(path)
+    path = output_folder(Path(out))
+    check_parent(path)
     _check_state(path, replace)
-
-
-def check_new_file(path: str | os.PathLike, replace: bool = False) -> None:
-    """InputError unless ``path`` can take a new file: not a folder, not below a file, in a
-    writable folder, a name the file system takes, and not an existing file unless
-    ``replace``."""
-    path = Path(path)
-    try:
-        if path.is_dir():
-            raise InputError(f"output file {_shown(path)} is a folder")
-        _check_parent(path)
-        if path.exists() and not replace:
-            raise InputError(f"output file {_shown(path)} exists; give --replace to overwrite it")
-    except OSError as exc:
-        raise InputError(f"cannot write {_shown(path)}: {_why(exc)}") from None
-
-
-def _shown(path: Path) -> str:
-    """``path`` for a one-line message: a very long one shortened."""
-    text = str(path)
-    return text if len(text) <= 100 else f"{text[:60]}...{text[-20:]}"
-
-
-def _why(exc: OSError) -> str:
-    return "name too long" if exc.errno == errno.ENAMETOOLONG else str(exc.strerror or exc)
-
-
-def _target(path: Path) -> Path:
-    try:
-        return _resolved_target(path)
-    except OSError as exc:
-        raise InputError(f"cannot use output folder {_shown(path)}: {_why(exc)}") from None
-
-
-def _resolved_target(path: Path) -> Path:
-    if path.is_symlink():
-        if not path.exists():
-            raise InputError(f"output path {path} is a link to nothing")
-        path = path.resolve()
-    if path.exists() and not path.is_dir():
-        raise InputError(f"output path {path} exists and is not a folder")
-    return path
-
-
-def _check_parent(path: Path) -> None:
-    parent = path.absolute().parent
-    try:
-        while not parent.exists():
-            parent = parent.parent
-    except OSError as exc:
-        raise InputError(f"cannot use {_shown(path)}: {_why(exc)}") from None
-    if not parent.is_dir():
-        raise InputError(f"cannot create {_shown(path)}: {_shown(parent)} is not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"cannot create {_shown(path)}: {_shown(parent)} is not writable")
-    limit = os.pathconf(parent, "PC_NAME_MAX") if hasattr(os, "pathconf") else 255
-    # The partial folder's name is the longest one the run creates beside the target.
-    too_long = [p for p in path.parts if len(os.fsencode(p)) + 18 > limit]
-    if too_long:
-        raise InputError(
-            f"a name in {_shown(path)} is too long for the file system (at most "
-            f"{limit - 18} bytes for an output folder)"
-        )
 
 
 def _check_state(path: Path, replace: bool) -> None:
@@ -234,7 +171,11 @@ class RunFolder:
         self._results: str | None = None
         self._meta: dict[str, Any] = {"run_id": target.name, "status": RUNNING}
         self.path = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
-        os.chmod(self.path, 0o777 & ~_umask())
+        try:
+            os.chmod(self.path, 0o777 & ~_umask())
+        except BaseException:  # Ctrl-C included: no partial folder without its run
+            self.discard()
+            raise
 
     def __enter__(self) -> RunFolder:
         return self
@@ -340,45 +281,53 @@ def claim_run_dir(
     command: str = "",
 ) -> RunFolder:
     """Claim the output folder of a new run (see the module): ``out``, or
-    ``<root>/<timestamp>-<kind>`` when None.
+    ``<root>/<timestamp>-<kind>`` when None (with a suffix -1, -2, ... if that is taken).
 
     Raises InputError, before any work and without changing anything, when another run is
     writing into the folder, when it holds a run (complete or not; ``replace`` replaces it
     once the new run is complete), holds other files, or cannot be created.
     """
-    if out is None:
-        stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
-        base = Path(root) / f"{stamp}-{kind}"
-        target, i = base, 1
-        while target.exists() or (target.parent / f".{target.name}.lock").exists():
-            target = base.with_name(f"{base.name}-{i}")
-            i += 1
-    else:
-        target = _target(Path(out))
-    _check_parent(target)
+    if out is not None:
+        return _claim(output_folder(Path(out)), replace, command)
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
+    base = Path(root) / f"{stamp}-{kind}"
+    for i in range(1000):
+        target = base if i == 0 else base.with_name(f"{base.name}-{i}")
+        if target.exists():
+            continue
+        try:
+            return _claim(target, False, command)
+        except _Taken:
+            continue  # another run started in the same second
+    raise InputError(f"no free run folder name in {root} for {base.name}")
+
+
+class _Taken(InputError):
+    """The folder is being written by another run."""
+
+
+def _claim(target: Path, replace: bool, command: str) -> RunFolder:
+    check_parent(target)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         lock = _Lock(target.parent / f".{target.name}.lock")
     except BlockingIOError:
-        raise InputError(
+        raise _Taken(
             f"output folder {target} is being written by another run{_owner(target)}; "
             "wait for it to finish or give another --out"
         ) from None
     except OSError as exc:
-        raise InputError(f"cannot create output folder {_shown(target)}: {_why(exc)}") from None
+        raise InputError(f"cannot create output folder {shown(target)}: {why(exc)}") from None
     try:
         notes = _recover(target)
         _check_state(target, replace)
-        lock.write(
-            dumps_strict(
-                {
-                    "pid": os.getpid(),
-                    "host": socket.gethostname(),
-                    "started_utc": _now(),
-                    "command": command,
-                }
-            )
-        )
+        owner = {
+            "pid": os.getpid(),
+            "host": socket.gethostname(),
+            "started_utc": _now(),
+            "command": command,
+        }
+        lock.write(dumps_strict(owner))
         return RunFolder(target, lock, replace, notes)
     except BaseException:
         lock.release()
