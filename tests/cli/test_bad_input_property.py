@@ -106,9 +106,9 @@ def scenario_sets():
     )
 
 
-def far(limit: float):
-    """Numbers beyond +-limit."""
-    big = st.floats(min_value=limit, exclude_min=True, allow_nan=False)
+def far(limit: float, infinite: bool = True):
+    """Numbers beyond +-limit (infinities too, if ``infinite``)."""
+    big = st.floats(min_value=limit, exclude_min=True, allow_nan=False, allow_infinity=infinite)
     return st.one_of(big, big.map(lambda x: -x))
 
 
@@ -151,7 +151,7 @@ def corrupt_recording(good: str):
         col = columns.index(name)
         limit = CHANNEL_LIMITS[units[name]]
         # A row whose time is not finite is dropped as a logger's glitch: not an error.
-        values = far(limit) if col == 0 else st.one_of(far(limit), st.just(math.inf))
+        values = far(limit, infinite=col != 0)
         return st.tuples(st.integers(1, len(rows) - 1), st.just(col), values)
 
     present = [c for c in RECORDING_COLUMNS if c in columns]
@@ -189,10 +189,12 @@ def work(tmp_path_factory):
     return root
 
 
-def _snapshot(root: Path) -> dict[str, bytes]:
+def _snapshot(root: Path) -> dict[str, bytes | int]:
+    """Every file's bytes, and every folder's modification time (a file created and
+    removed again changes it)."""
     return {
-        str(p.relative_to(root)): p.read_bytes() if p.is_file() else b"<dir>"
-        for p in sorted(root.rglob("*"), key=str)
+        str(p.relative_to(root)): p.read_bytes() if p.is_file() else p.stat().st_mtime_ns
+        for p in sorted([root, *root.rglob("*")], key=str)
     }
 
 
@@ -207,8 +209,20 @@ def _run(args: list[str]) -> tuple[int, str]:
     return code, err.getvalue()
 
 
+VALID = {
+    "reduced": ["reduced", "--no-figures"],
+    "simulate": ["simulate", "paper", "--no-figures"],
+    "analyze": ["analyze", "rec.csv", "--no-figures"],
+}
+
+
 def _args(command: str, data, work: Path) -> list[str]:
     out = ["--out", str(work / "new")]
+    if command in VALID and data.draw(st.integers(0, 5)) == 0:
+        # Good values, an output path that cannot take the run.
+        bad_out = data.draw(st.sampled_from(["old", "keep.csv", "keep.csv/sub", "."]))
+        valid = [str(work / a) if a.endswith(".csv") else a for a in VALID[command]]
+        return [*valid, "--out", str(work / bad_out)]
     if command == "reduced":
         names = option_names(ReducedConfig, samples_per_cycle="--samples-per-cycle")
         if data.draw(st.integers(0, 4)) == 0:

@@ -308,6 +308,7 @@ class _Taken(InputError):
 
 def _claim(target: Path, replace: bool, command: str) -> RunFolder:
     check_parent(target)
+    _check_state(target, replace)  # refuse without touching anything; checked again locked
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         lock = _Lock(target.parent / f".{target.name}.lock")
