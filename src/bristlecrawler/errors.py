@@ -19,3 +19,11 @@ class InputError(BristlecrawlerError, ValueError):
 
 class SolverError(BristlecrawlerError, RuntimeError):
     """A solver could not produce a trustworthy answer; the message says where and why."""
+
+
+class Interrupted(BaseException):
+    """The user interrupted a command (Ctrl-C); the message says what was kept.
+
+    A BaseException, like KeyboardInterrupt, so that ``except Exception`` does not swallow
+    it; the CLI raises it from its SIGINT handler, prints its message and exits with 130.
+    """

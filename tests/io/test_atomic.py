@@ -5,7 +5,7 @@ import json
 import pytest
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.io import atomic_path, atomic_write_text, prepare_run_dir, write_run_metadata
+from bristlecrawler.io import atomic_path, atomic_write_text, claim_run_dir
 
 
 def test_failed_write_keeps_old_file_and_leaves_no_temporary(tmp_path):
@@ -19,17 +19,19 @@ def test_failed_write_keeps_old_file_and_leaves_no_temporary(tmp_path):
 
 
 def test_run_dirs_are_unique_and_carry_provenance(tmp_path):
-    a = prepare_run_dir(None, "reduced", root=str(tmp_path))
-    b = prepare_run_dir(None, "reduced", root=str(tmp_path))
-    assert a != b and a.is_dir() and b.is_dir()
-    info = write_run_metadata(a, {"k": 0.48}, "bristlecrawler reduced")
-    meta = json.loads((a / "meta.json").read_text())
-    assert meta["package_version"] == info.version
-    assert json.loads((a / "config.json").read_text()) == {"k": 0.48}
+    with claim_run_dir(None, "reduced", root=tmp_path) as a:
+        info = a.write_metadata({"k": 0.48}, "bristlecrawler reduced")
+        with claim_run_dir(None, "reduced", root=tmp_path) as b:
+            b.write_metadata({}, "")
+    assert a.target != b.target and a.target.is_dir() and b.target.is_dir()
+    meta = json.loads((a.target / "meta.json").read_text())
+    assert meta["package_version"] == info.version and meta["status"] == "complete"
+    assert json.loads((a.target / "config.json").read_text()) == {"k": 0.48}
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([a.target.name, b.target.name])
 
 
 def test_output_path_that_is_a_file_is_refused(tmp_path):
     f = tmp_path / "f"
     f.write_text("x")
     with pytest.raises(InputError, match="not a folder"):
-        prepare_run_dir(f, "reduced")
+        claim_run_dir(f, "reduced")

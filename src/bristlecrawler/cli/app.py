@@ -7,12 +7,15 @@ Bad input ends with one line on stderr and exit code 2, before any work starts.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import signal
 import sys
+import warnings
 
 import typer
 
-from bristlecrawler.errors import InputError, SolverError
+from bristlecrawler.errors import InputError, Interrupted, SolverError
 
 app = typer.Typer(
     name="bristlecrawler",
@@ -47,9 +50,9 @@ def _register() -> None:
 _register()
 
 
-def _fail(message: str, code: int) -> None:
+def _fail(message: str, code: int, prefix: str = "error: ") -> None:
     first = " ".join(str(message).split())
-    typer.echo(f"error: {first}", err=True)
+    typer.echo(f"{prefix}{first}", err=True)
     raise SystemExit(code)
 
 
@@ -73,26 +76,88 @@ _EXIT = _click_exceptions("Exit")
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Run the CLI; bad input gives one ``error:`` line and exit code 2, no traceback."""
-    try:
-        result = app(args=argv, standalone_mode=False, prog_name="bristlecrawler")
-    except _NO_ARGS as exc:
-        typer.echo(exc.ctx.get_help())
-        raise SystemExit(0) from None
-    except _USAGE as exc:
-        _fail(exc.format_message(), 2)
-    except _ABORT:
-        _fail("aborted", 130)
-    except _EXIT as exc:
-        raise SystemExit(exc.exit_code) from None
-    except InputError as exc:
-        _fail(str(exc), 2)
-    except SolverError as exc:
-        _fail(f"solver failed: {exc}", 3)
-    except FileNotFoundError as exc:
-        _fail(f"file not found: {exc.filename}", 2)
+    """Run the CLI; bad input gives one ``error:`` line and exit code 2, no traceback.
+
+    Warnings that libraries (numpy, npTDMS) raise on the way are held back: after a
+    failure the error line is all the user sees; after a success each distinct warning is
+    one ``warning:`` line. Ctrl-C prints one line saying what was kept, exit code 130.
+    """
+    with _held_warnings() as held, _sigint_as_interrupted():
+        try:
+            result = app(args=argv, standalone_mode=False, prog_name="bristlecrawler")
+        except _NO_ARGS as exc:
+            typer.echo(exc.ctx.get_help())
+            raise SystemExit(0) from None
+        except _USAGE as exc:
+            _fail(exc.format_message(), 2)
+        except (*_ABORT, Interrupted, KeyboardInterrupt) as exc:
+            _fail(str(exc) if str(exc) else "interrupted: nothing written", 130, "")
+        except _EXIT as exc:
+            raise SystemExit(exc.exit_code) from None
+        except InputError as exc:
+            _fail(str(exc), 2)
+        except SolverError as exc:
+            _fail(f"solver failed: {exc}", 3)
+        except FileNotFoundError as exc:
+            _fail(f"file not found: {exc.filename}", 2)
+        except RecursionError:
+            _fail("input nested too deeply", 2)
+        except OSError as exc:
+            where = f"{exc.filename}: " if exc.filename else ""
+            _fail(f"{where}{exc.strerror or exc}", 2 if _is_path_error(exc) else 1)
+    _show(held)
     if isinstance(result, int) and result != 0:
         raise SystemExit(result)
+
+
+def _is_path_error(exc: OSError) -> bool:
+    """A path the user gave that cannot be used (rather than, say, a full disk)."""
+    import errno
+
+    return exc.errno in (
+        errno.EACCES,
+        errno.EPERM,
+        errno.ENOENT,
+        errno.ENOTDIR,
+        errno.EISDIR,
+        errno.ENAMETOOLONG,
+        errno.EEXIST,
+        errno.ELOOP,
+    )
+
+
+@contextlib.contextmanager
+def _held_warnings():
+    with warnings.catch_warnings(record=True) as held:
+        yield held
+
+
+def _show(held: list[warnings.WarningMessage]) -> None:
+    seen = set()
+    for w in held:
+        text = " ".join(str(w.message).split())
+        if text not in seen:
+            seen.add(text)
+            typer.echo(f"warning: {text}", err=True)
+
+
+@contextlib.contextmanager
+def _sigint_as_interrupted():
+    """SIGINT raises :class:`Interrupted`, which Typer does not turn into a silent exit
+    130, and which a run folder answers by saying what it kept."""
+
+    def handler(signum, frame):
+        raise Interrupted()
+
+    try:
+        previous = signal.signal(signal.SIGINT, handler)
+    except ValueError:  # not the main thread: leave Ctrl-C alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

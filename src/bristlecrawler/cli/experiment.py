@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import shlex
 import sys
 from pathlib import Path
@@ -42,6 +41,12 @@ def analyze_cmd(
     out: Annotated[
         Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
     ] = None,
+    replace: Annotated[
+        bool,
+        typer.Option(
+            "--replace", help="replace the run (complete or not) in --out once this one is done"
+        ),
+    ] = False,
     as_json: Annotated[
         bool, typer.Option("--json", help="print the summary as JSON on stdout")
     ] = False,
@@ -49,16 +54,18 @@ def analyze_cmd(
 ) -> None:
     """Analyse a recording: cycles, per-cycle advance, stick/slip transitions, fitted F_p/k
     with a bootstrap interval (and F_p, k with --work or a force channel)."""
-    from bristlecrawler.errors import InputError
     from bristlecrawler.experiment import ChannelMap, analyze, read_recording
-    from bristlecrawler.io.atomic import atomic_write_text
-    from bristlecrawler.io.runs import check_out_dir, prepare_run_dir, write_run_metadata
+    from bristlecrawler.io.jsonio import dumps_strict, finite_or_none
+    from bristlecrawler.io.runs import check_out_dir, claim_run_dir
+    from bristlecrawler.scenario.experiment import AnalyzeOptions
+    from bristlecrawler.scenario.strict import option_names, parse_model
 
-    check_out_dir(out)
-    if work is not None and not (work > 0 and work < float("inf")):
-        raise InputError(f"--work must be a positive number of mJ, got {work}")
-    if not max_gap > 0:
-        raise InputError(f"--max-gap must be positive, got {max_gap}")
+    opts = parse_model(
+        AnalyzeOptions,
+        {"work": work, "rate": rate, "max_gap": max_gap},
+        option_names(AnalyzeOptions),
+    )
+    check_out_dir(out, replace)
     cmap = ChannelMap(
         time=time_col,
         left=left_col,
@@ -66,33 +73,37 @@ def analyze_cmd(
         force=force_col,
         left_sign=-1.0 if flip_left else 1.0,
         right_sign=-1.0 if flip_right else 1.0,
-        rate_hz=rate,
+        rate_hz=opts.rate,
         group=group,
     )
     rec = read_recording(recording, cmap)
-    result = analyze(rec, work_mJ=work, max_gap_s=max_gap)
-    summary = result.summary() | {"recording": str(recording)}
-    run_dir = prepare_run_dir(out, "analyze")
-    write_run_metadata(
-        run_dir,
-        {
-            "recording": str(recording),
-            "channels": cmap.__dict__,
-            "work_mJ": work,
-            "max_gap_s": max_gap,
-        },
-        "bristlecrawler " + shlex.join(sys.argv[1:]),
-    )
-    atomic_write_text(run_dir / "analysis.json", json.dumps(summary, indent=2) + "\n")
+    result = analyze(rec, work_mJ=opts.work, max_gap_s=opts.max_gap)
+    summary = finite_or_none(result.summary() | {"recording": str(recording)})
+    command = "bristlecrawler " + shlex.join(sys.argv[1:])
+    figure = None
     if not no_figures:
         from bristlecrawler.viz.experiment import plot_analysis
-        from bristlecrawler.viz.reduced import save_figure
 
-        save_figure(plot_analysis(result), run_dir / "analysis.png")
-    summary["output_dir"] = str(run_dir)
+        figure = plot_analysis(result)  # drawn before the folder is claimed: nothing to undo
+    with claim_run_dir(out, "analyze", replace=replace, command=command) as run:
+        config = {"recording": str(recording), "channels": cmap.__dict__} | opts.model_dump()
+        run.write_metadata(config, command)
+        run.write_json("analysis.json", summary)
+        run.results_written("analysis.json")
+        if figure is not None:
+            from bristlecrawler.viz.reduced import save_figure
+
+            save_figure(figure, run.path / "analysis.png")
+    for note in run.notes:
+        typer.echo(f"warning: {note}", err=True)
+    summary["output_dir"] = str(run.target)
     if as_json:
-        typer.echo(json.dumps(summary))
+        typer.echo(dumps_strict(summary))
         return
+    _print_analysis(summary)
+
+
+def _print_analysis(summary: dict) -> None:
     ci = summary["fp_over_k_ci_mm"]
     typer.echo(f"{summary['cycles']} cycles, net advance {summary['net_advance_mm']:.2f} mm")
     typer.echo(
@@ -100,15 +111,16 @@ def analyze_cmd(
     )
     ci_txt = "n/a" if ci[0] is None else f"[{ci[0]:.3f}, {ci[1]:.3f}]"
     c = summary["fp_over_k_mm"]
+    from_adv = summary["fp_over_k_from_advance_mm"]
     typer.echo(
         f"F_p/k = {'n/a' if c is None else f'{c:.3f}'} mm, 95% CI {ci_txt} "
-        f"(from net advance: {summary['fp_over_k_from_advance_mm']:.3f} mm)"
+        f"(from net advance: {'n/a' if from_adv is None else f'{from_adv:.3f}'} mm)"
     )
     if "fp_N" in summary:
         typer.echo(f"F_p = {summary['fp_N']:.3f} N, k = {summary['k_N_per_mm']:.3f} N/mm")
     for note in summary["notes"]:
         typer.echo(f"note: {note}")
-    typer.echo(f"results in {run_dir}")
+    typer.echo(f"results in {summary['output_dir']}")
 
 
 def synth_cmd(
@@ -119,27 +131,43 @@ def synth_cmd(
     k: Annotated[float, typer.Option("--k", help="bristle stiffness, N/mm")] = 0.48,
     noise: Annotated[float, typer.Option("--noise", help="sensor noise, mm (std)")] = 0.01,
     skip: Annotated[float, typer.Option("--skip", help="seconds cut from the start")] = 0.0,
-    seed: Annotated[int, typer.Option("--seed", help="random seed")] = 0,
+    seed: Annotated[int, typer.Option("--seed", help="random seed (>= 0)")] = 0,
+    replace: Annotated[
+        bool, typer.Option("--replace", help="overwrite the file if it exists")
+    ] = False,
 ) -> None:
     """Write a synthetic recording made by the reduced model with sensor artefacts."""
     from bristlecrawler.errors import InputError
     from bristlecrawler.experiment import SensorModel, synthetic_recording, write_csv, write_tdms
+    from bristlecrawler.io.runs import check_new_file
     from bristlecrawler.reduced import ReducedCrawler
+    from bristlecrawler.scenario.experiment import SynthOptions
+    from bristlecrawler.scenario.strict import option_names, parse_model
 
     ext = path.suffix.lower()
     if ext not in (".csv", ".tdms"):
         raise InputError(f"output must end in .csv or .tdms, got '{path.name}'")
-    if cycles < 1:
-        raise InputError(f"--cycles must be >= 1, got {cycles}")
-    if not (noise >= 0 and skip >= 0):
-        raise InputError("--noise and --skip must be >= 0")
-    crawler = ReducedCrawler.two_bristle(fp=fp, k=k)
+    opts = parse_model(
+        SynthOptions,
+        {
+            "actuator": actuator,
+            "cycles": cycles,
+            "fp": fp,
+            "k": k,
+            "noise": noise,
+            "skip": skip,
+            "seed": seed,
+        },
+        option_names(SynthOptions),
+    )
+    check_new_file(path, replace)
+    crawler = ReducedCrawler.two_bristle(fp=opts.fp, k=opts.k)
     rec = synthetic_recording(
         crawler,
-        actuator=actuator,
-        cycles=cycles,
-        sensor=SensorModel(noise_mm=noise, skip_s=skip),
-        seed=seed,
+        actuator=opts.actuator,
+        cycles=opts.cycles,
+        sensor=SensorModel(noise_mm=opts.noise, skip_s=opts.skip),
+        seed=opts.seed,
     )
     (write_tdms if ext == ".tdms" else write_csv)(rec, path)
     typer.echo(f"wrote {path} ({rec.t.size} samples, {rec.duration:.1f} s)")

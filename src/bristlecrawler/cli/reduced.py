@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import shlex
 import sys
 from pathlib import Path
@@ -72,6 +71,12 @@ def reduced_cmd(
     out: Annotated[
         Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
     ] = None,
+    replace: Annotated[
+        bool,
+        typer.Option(
+            "--replace", help="replace the run (complete or not) in --out once this one is done"
+        ),
+    ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the PNG figures")] = False,
 ) -> None:
@@ -81,9 +86,10 @@ def reduced_cmd(
     5 cycles of s(t) = s~ sin^2(pi t / T), T = 20 s. Writes reduced.nc (xarray/NetCDF),
     delta_vs_s.png, friction_law.png, summary.json, config.json and meta.json.
     """
+    from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.jobs.reduced import run_reduced
     from bristlecrawler.scenario.reduced import ReducedConfig
-    from bristlecrawler.scenario.strict import parse_model
+    from bristlecrawler.scenario.strict import option_names, parse_model
 
     config = parse_model(
         ReducedConfig,
@@ -103,15 +109,19 @@ def reduced_cmd(
             "history": None if history is None else str(history),
             "samples_per_cycle": samples,
         },
+        option_names(ReducedConfig, samples_per_cycle="--samples-per-cycle"),
     )
     run = run_reduced(
         config,
         out=out,
         figures=not no_figures,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
+        replace=replace,
     )
+    for line in (*run.notes, *run.summary.get("warnings", ())):
+        typer.echo(f"warning: {line}", err=True)
     if as_json:
-        typer.echo(json.dumps(run.summary))
+        typer.echo(dumps_strict(run.summary))
         return
     _print_summary(run.summary)
 
@@ -161,12 +171,13 @@ def calibrate_cmd(
     as_json: Annotated[bool, typer.Option("--json", help="print JSON on stdout")] = False,
 ) -> None:
     """Calibrate F_p/k (and, with --work, F_p and k) from a measured gait (paper Section 4)."""
+    from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.reduced.calibration import calibrate
 
     cal = calibrate(s_max, cycles, advance, work)
     d = cal.as_dict()
     if as_json:
-        typer.echo(json.dumps(d))
+        typer.echo(dumps_strict(d))
         return
     typer.echo(f"F_p/k = {cal.fp_over_k_mm:.4f} mm (regime {cal.regime})")
     if cal.fp_N is not None:

@@ -44,6 +44,12 @@ def simulate_cmd(
     out: Annotated[
         Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
     ] = None,
+    replace: Annotated[
+        bool,
+        typer.Option(
+            "--replace", help="replace the run (complete or not) in --out once this one is done"
+        ),
+    ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
     no_figures: Annotated[
         bool, typer.Option("--no-figures", help="skip figures and animation")
@@ -93,8 +99,9 @@ def simulate_cmd(
         out=out,
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
+        replace=replace,
     )
-    for w in run.summary["warnings"]:
+    for w in (*run.notes, *run.summary["warnings"]):
         typer.echo(f"warning: {w}", err=True)
     _note_defaults(scenario)
     if run.out_dir is not None and sc.output.animation:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from typing import Annotated
 
 import typer
@@ -23,13 +22,14 @@ def verify_cmd(
     across grooves (energy balance).
     """
     from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.io.jsonio import dumps_strict
 
     enable_compilation_cache()
     from bristlecrawler.verification import run_all
 
     rows, doc = run_all()
     if as_json:
-        typer.echo(json.dumps(doc, default=float))
+        typer.echo(dumps_strict(doc))
     else:
         from rich.console import Console
         from rich.table import Table

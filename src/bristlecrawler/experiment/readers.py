@@ -89,6 +89,10 @@ def read_csv(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recordi
             rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
     except UnicodeDecodeError:
         raise InputError(f"{path} is not a text CSV file") from None
+    except csv.Error as exc:
+        raise InputError(f"{path}: not a readable CSV file ({exc})") from None
+    except OSError as exc:
+        raise InputError(f"cannot read recording {path}: {exc.strerror}") from None
     if len(rows) < 2:
         raise InputError(f"{path}: no data rows")
     header = [h.strip() for h in rows[0]]

@@ -19,6 +19,36 @@ from bristlecrawler.errors import InputError
 #: Default sample rate of the prototype's acquisition (NI-9215 on a cRIO-9082), samples/s.
 DEFAULT_RATE_HZ = 100.0
 
+#: Largest magnitude a channel may hold (its unit): a transducer reading beyond this is a
+#: corrupt cell or a wrong unit, and would carry through the fit to absurd parameters.
+CHANNEL_LIMITS = {
+    "time": 1e9,
+    "left": 1e5,
+    "right": 1e5,
+    "shortening": 1e5,
+    "force": 1e6,
+    "current": 1e4,
+}
+CHANNEL_UNITS = {
+    "time": "s",
+    "left": "mm",
+    "right": "mm",
+    "shortening": "mm",
+    "force": "N",
+    "current": "A",
+}
+
+
+def _check_range(source: str, name: str, arr: np.ndarray) -> None:
+    limit = CHANNEL_LIMITS[name]
+    big = np.flatnonzero(np.abs(np.nan_to_num(arr, nan=0.0)) > limit)
+    if big.size:
+        i = int(big[0])
+        raise InputError(
+            f"{source or 'recording'}: channel {name} sample {i} is {arr[i]:.12g} "
+            f"{CHANNEL_UNITS[name]}, beyond +-{limit:g} {CHANNEL_UNITS[name]}"
+        )
+
 
 def _channel(name: str, values, n: int | None) -> np.ndarray:
     arr = np.asarray(values, dtype=float).ravel()
@@ -54,6 +84,7 @@ class Recording:
     def __post_init__(self) -> None:
         t = _channel("time", self.t, None)
         n = t.size
+        _check_range(self.source, "time", t)
         if n < 10:
             raise InputError(f"{self.source or 'recording'}: only {n} samples, need at least 10")
         if not np.all(np.isfinite(t)):
@@ -69,10 +100,13 @@ class Recording:
             arr = _channel(name, getattr(self, name), n)
             if np.isfinite(arr).sum() < 10:
                 raise InputError(f"{self.source or 'recording'}: channel {name} has no usable data")
+            _check_range(self.source, name, arr)
             object.__setattr__(self, name, arr)
         for name in ("current", "shortening", "force"):
             if getattr(self, name) is not None:
-                object.__setattr__(self, name, _channel(name, getattr(self, name), n))
+                arr = _channel(name, getattr(self, name), n)
+                _check_range(self.source, name, arr)
+                object.__setattr__(self, name, arr)
 
     @property
     def rate_hz(self) -> float:

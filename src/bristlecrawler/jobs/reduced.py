@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -15,6 +14,10 @@ from bristlecrawler.reduced.solver import ReducedResult
 from bristlecrawler.reduced.strokes import Sin2Stroke, TriangleStroke, read_history_csv
 from bristlecrawler.scenario.reduced import ReducedConfig
 
+#: The exact solver closes the energy balance to round-off; a residual above this flags a
+#: run whose events were not resolved.
+BALANCE_WARN = 1e-6
+
 
 @dataclass(frozen=True)
 class ReducedRun:
@@ -23,6 +26,7 @@ class ReducedRun:
     result: ReducedResult
     summary: dict[str, Any]
     out_dir: Path | None
+    notes: tuple[str, ...] = ()
 
 
 def build(config: ReducedConfig):
@@ -65,7 +69,13 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
         "fp_over_k_mm": float(config.fp / config.k),
         "samples": int(result.t.size),
         "events": len(result.events),
+        "warnings": [],
     }
+    if not result.energy_balance_error <= BALANCE_WARN:
+        out["warnings"].append(
+            f"energy balance residual {result.energy_balance_error:.1e} (normal: below "
+            f"{BALANCE_WARN:g}): the event-driven solver lost track of a stick/slip event"
+        )
     if config.bristles == 2 and config.history is None and config.actuator == "sin2":
         out["regime"] = int(cf.regime(config.s_max, config.fp / config.k))
         out["closed_form_net_advance_mm"] = float(
@@ -83,40 +93,38 @@ def run_reduced(
     write: bool = True,
     figures: bool = True,
     command: str = "",
+    replace: bool = False,
 ) -> ReducedRun:
     """Solve; with ``write``, put ``reduced.nc``, figures, ``summary.json``, ``config.json``
-    and ``meta.json`` in ``out`` (default ``runs/<timestamp>-reduced``), each atomically.
+    and ``meta.json`` in ``out`` (default ``runs/<timestamp>-reduced``).
 
-    Nothing is written unless the input is valid and the solve succeeded.
+    The folder is claimed before the solve and appears complete or not at all
+    (:func:`bristlecrawler.io.runs.claim_run_dir`; ``replace`` replaces a run already there).
     """
-    from bristlecrawler.io.runs import check_out_dir
-
     crawler, gait = build(config)
-    if write:
-        check_out_dir(out)
-    result = simulate(crawler, gait, config.cycles, config.samples_per_cycle)
-    summary = summarize(result, config)
     if not write:
-        return ReducedRun(result, summary, None)
+        result = simulate(crawler, gait, config.cycles, config.samples_per_cycle)
+        return ReducedRun(result, summarize(result, config), None)
 
-    from bristlecrawler.io.atomic import atomic_write_text
+    from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.io.netcdf import reduced_dataset, write_netcdf
-    from bristlecrawler.io.runs import prepare_run_dir, write_run_metadata
+    from bristlecrawler.io.runs import claim_run_dir
 
-    out_dir = prepare_run_dir(out, "reduced")
+    with claim_run_dir(out, "reduced", replace=replace, command=command) as run:
+        result = simulate(crawler, gait, config.cycles, config.samples_per_cycle)
+        summary = summarize(result, config) | {"output_dir": str(run.target)}
+        info = run.write_metadata(config.model_dump(), command)
+        attrs = info.as_dict() | {"config": dumps_strict(config.model_dump())}
+        write_netcdf(reduced_dataset(result, attrs=attrs), run.path / "reduced.nc")
+        run.results_written("reduced.nc")
+        if figures:
+            from bristlecrawler.viz.reduced import plot_delta_vs_s, plot_friction_law, save_figure
 
-    info = write_run_metadata(out_dir, config.model_dump(), command)
-    ds = reduced_dataset(result, attrs=info.as_dict() | {"config": json.dumps(config.model_dump())})
-    write_netcdf(ds, out_dir / "reduced.nc")
-    if figures:
-        from bristlecrawler.viz.reduced import plot_delta_vs_s, plot_friction_law, save_figure
-
-        title = (
-            f"reduced model: N={crawler.n_bristles}, {config.gait}, "
-            f"F_p/k={config.fp / config.k:.3g} mm, net {result.net_advance:.2f} mm"
-        )
-        save_figure(plot_delta_vs_s(result, title=title), out_dir / "delta_vs_s.png")
-        save_figure(plot_friction_law(crawler.friction(0)), out_dir / "friction_law.png")
-    summary = summary | {"output_dir": str(out_dir)}
-    atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2) + "\n")
-    return ReducedRun(result, summary, out_dir)
+            title = (
+                f"reduced model: N={crawler.n_bristles}, {config.gait}, "
+                f"F_p/k={config.fp / config.k:.3g} mm, net {result.net_advance:.2f} mm"
+            )
+            save_figure(plot_delta_vs_s(result, title=title), run.path / "delta_vs_s.png")
+            save_figure(plot_friction_law(crawler.friction(0)), run.path / "friction_law.png")
+        run.write_json("summary.json", summary)
+    return ReducedRun(result, summary, run.target, tuple(run.notes))

@@ -17,6 +17,12 @@ import numpy as np
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced import closed_form as cf
 
+#: Bounds of the measured inputs: stroke (mm), cycles, work (mJ). Beyond them the numbers
+#: are not a crawler's, and the closed forms overflow.
+MAX_S = 1e4
+MAX_CYCLES = 100_000
+MAX_WORK = 1e6
+
 
 @dataclass(frozen=True)
 class Calibration:
@@ -51,10 +57,10 @@ def calibrate(s_max: float, cycles: int, advance: float, work: float | None = No
         work: actuator work over the n cycles, mJ (> 0), optional.
     """
     s, a = float(s_max), float(advance)
-    if not np.isfinite(s) or s <= 0:
-        raise InputError(f"s_max must be a positive number of mm, got {s_max}")
-    if int(cycles) != cycles or cycles < 1:
-        raise InputError(f"cycles must be an integer >= 1, got {cycles}")
+    if not np.isfinite(s) or s <= 0 or s > MAX_S:
+        raise InputError(f"s_max must be a positive number of mm up to {MAX_S:g}, got {s_max}")
+    if int(cycles) != cycles or not 1 <= cycles <= MAX_CYCLES:
+        raise InputError(f"cycles must be an integer from 1 to {MAX_CYCLES}, got {cycles}")
     n = int(cycles)
     if not np.isfinite(a):
         raise InputError(f"advance must be finite, got {advance}")
@@ -75,8 +81,8 @@ def calibrate(s_max: float, cycles: int, advance: float, work: float | None = No
     if work is None:
         return Calibration(float(c), int(reg))
     w = float(work)
-    if not np.isfinite(w) or w <= 0:
-        raise InputError(f"work must be a positive number of mJ, got {work}")
+    if not np.isfinite(w) or w <= 0 or w > MAX_WORK:
+        raise InputError(f"work must be a positive number of mJ up to {MAX_WORK:g}, got {work}")
     if reg == cf.STEADY_SLIDING:
         fp = w / (c + 2 * (s - 3 * c) + 2 * (n - 1) * (s - 4 * c))
         k = fp / c

@@ -16,6 +16,9 @@ import numpy as np
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced._checks import positive
 
+#: Largest time a history may hold, s (about 30 years).
+MAX_TIME = 1e9
+
 
 @dataclass(frozen=True)
 class Sin2Stroke:
@@ -83,6 +86,9 @@ class SampledStroke:
             raise InputError(
                 f"history: non-finite shortening at sample {int(np.argmin(np.isfinite(s)))}"
             )
+        if np.any(np.abs(t) > MAX_TIME):
+            i = int(np.argmax(np.abs(t) > MAX_TIME))
+            raise InputError(f"history: time {t[i]:g} s at sample {i} is beyond +-{MAX_TIME:g} s")
         bad = np.flatnonzero(np.diff(t) <= 0.0)
         if bad.size:
             raise InputError(
@@ -122,10 +128,13 @@ def read_history_csv(path: str) -> SampledStroke:
     import csv
     import os
 
+    if not isinstance(path, str | os.PathLike):
+        raise InputError(f"history must be a file name, got {path!r}")
     if not os.path.isfile(path):
         raise InputError(f"history file not found: {path}")
     try:
-        with open(path, newline="", encoding="utf-8") as fh:
+        # utf-8-sig: spreadsheet programs start a CSV with a byte-order mark.
+        with open(path, newline="", encoding="utf-8-sig") as fh:
             reader = csv.reader(
                 row for row in fh if row.strip() and not row.lstrip().startswith("#")
             )
@@ -152,4 +161,8 @@ def read_history_csv(path: str) -> SampledStroke:
                     ) from None
     except UnicodeDecodeError:
         raise InputError(f"history file {path} is not a UTF-8 text CSV file") from None
+    except csv.Error as exc:
+        raise InputError(f"history file {path} is not a readable CSV file ({exc})") from None
+    except OSError as exc:
+        raise InputError(f"cannot read history file {path}: {exc.strerror}") from None
     return SampledStroke(np.array(t), np.array(s))

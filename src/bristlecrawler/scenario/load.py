@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.scenario.schema import Scenario
+from bristlecrawler.scenario.schema import Scenario, check_substrate_scale
 from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.substrate import parse_substrate
 
@@ -46,6 +46,11 @@ def shipped_scenario_text(name: str) -> str:
 def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenario:
     """Validate a mapping (e.g. a parsed TOML document) into a :class:`Scenario`."""
     try:
+        if isinstance(data.get("substrate"), dict):
+            try:
+                check_substrate_scale(data["substrate"])
+            except ValueError as exc:
+                raise InputError(str(exc)) from None
         if "substrate" in data:
             parse_substrate(data["substrate"])  # its own, more specific messages
         return parse_model(Scenario, data)
@@ -62,14 +67,19 @@ def _read_toml(path: Path) -> dict[str, Any]:
     if not path.is_file():
         raise InputError(f"scenario file not found: {path}")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: invalid TOML ({exc})") from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a UTF-8 text file") from None
+    except RecursionError:
+        raise InputError(f"{path}: tables or arrays nested too deeply") from None
+    except OSError as exc:
+        raise InputError(f"cannot read scenario file {path}: {exc.strerror}") from None
     act = data.get("actuation", {})
-    if isinstance(act, dict) and act.get("history") and not Path(act["history"]).is_absolute():
-        act["history"] = str(path.parent / act["history"])  # relative to the file
+    history = act.get("history") if isinstance(act, dict) else None
+    if isinstance(history, str) and history and not Path(history).is_absolute():
+        act["history"] = str(path.parent / history)  # relative to the file
     return data
 
 
@@ -138,6 +148,8 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
             value = tomllib.loads(f"v = {raw.strip()}")["v"]
         except tomllib.TOMLDecodeError:
             value = raw.strip()  # bare words (kind = grooves) are strings
+        except RecursionError:
+            raise InputError(f"--set {key.strip()}: value nested too deeply") from None
         values[key.strip()] = value
     return apply_values(sc, values)
 

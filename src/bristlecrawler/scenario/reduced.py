@@ -17,6 +17,14 @@ from bristlecrawler.reduced.crawler import (
     PAPER_S_MAX,
 )
 
+#: Bounds of the physical parameters: lengths in mm (10 m), forces in N; F_p/k in mm.
+MAX_LENGTH = 1e4
+MIN_FORCE = 1e-9
+MAX_FORCE = 1e6
+MIN_FP_OVER_K = 1e-9
+#: Most samples of a run (cycles x samples per cycle): about a gigabyte of results.
+MAX_SAMPLES = 1e8
+
 
 class ReducedConfig(BaseModel):
     """Parameters of a reduced-model run. Defaults reproduce the paper (Section 4)."""
@@ -24,30 +32,46 @@ class ReducedConfig(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     s_max: float = Field(
-        PAPER_S_MAX, gt=0, allow_inf_nan=False, description="peak shortening s~ of each segment, mm"
+        PAPER_S_MAX,
+        gt=0,
+        le=MAX_LENGTH,
+        allow_inf_nan=False,
+        description="peak shortening s~ of each segment, mm",
     )
     fp: float = Field(
-        PAPER_FP, gt=0, allow_inf_nan=False, description="F_p, resistance along the grain, N"
+        PAPER_FP,
+        ge=MIN_FORCE,
+        le=MAX_FORCE,
+        allow_inf_nan=False,
+        description="F_p, resistance along the grain, N",
     )
     fn: float | None = Field(
         None,
-        gt=0,
+        ge=MIN_FORCE,
+        le=MAX_FORCE,
         allow_inf_nan=False,
         description=f"F_n, resistance against the grain, N (default {DEFAULT_FN_OVER_FP:g} F_p)",
     )
-    k: float = Field(PAPER_K, gt=0, allow_inf_nan=False, description="bristle stiffness, N/mm")
+    k: float = Field(
+        PAPER_K, ge=1e-9, le=1e9, allow_inf_nan=False, description="bristle stiffness, N/mm"
+    )
     length: float = Field(
         PAPER_LENGTH,
-        gt=0,
+        ge=1e-3,
+        le=MAX_LENGTH,
         allow_inf_nan=False,
         description="distance between first and last bristle, mm",
     )
     cycles: int = Field(PAPER_CYCLES, ge=1, le=100_000, description="number of strokes")
-    period: float = Field(PAPER_PERIOD, gt=0, allow_inf_nan=False, description="stroke period T, s")
+    period: float = Field(
+        PAPER_PERIOD, ge=1e-6, le=1e7, allow_inf_nan=False, description="stroke period T, s"
+    )
     bristles: int = Field(2, ge=2, le=10_000, description="number of bristles N")
     gait: Literal["breathing", "peristaltic"] = "breathing"
     lag: float | None = Field(
         None,
+        ge=-1e7,
+        le=1e7,
         allow_inf_nan=False,
         description="peristaltic delay between neighbouring segments, s (default period / 4)",
     )
@@ -64,6 +88,17 @@ class ReducedConfig(BaseModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> ReducedConfig:
+        c = self.fp / self.k
+        if not MIN_FP_OVER_K <= c <= MAX_LENGTH:
+            raise ValueError(
+                f"fp / k ({c:g} mm, the bristle's deflection at sliding) must be within "
+                f"[{MIN_FP_OVER_K:g}, {MAX_LENGTH:g}] mm"
+            )
+        if self.cycles * self.samples_per_cycle > MAX_SAMPLES:
+            raise ValueError(
+                f"cycles x samples_per_cycle ({self.cycles * self.samples_per_cycle:g}) must "
+                f"be at most {MAX_SAMPLES:g} samples"
+            )
         if self.history is not None and self.actuator == "sma":
             raise ValueError("give either a history file or actuator = 'sma', not both")
         fn = np.nan if self.fn is None else self.fn

@@ -22,8 +22,17 @@ class _Section(StrictSection):
     """A section of a scenario (see :class:`StrictSection`)."""
 
 
-def _pos(default: float, text: str):
-    return Field(default, gt=0, allow_inf_nan=False, description=text)
+def _pos(default: float, text: str, le: float, ge: float | None = None):
+    """A positive physical quantity with an upper bound (and a lower one where a smaller
+    value would break the arithmetic rather than the physics)."""
+    if ge is None:
+        return Field(default, gt=0, le=le, allow_inf_nan=False, description=text)
+    return Field(default, ge=ge, le=le, allow_inf_nan=False, description=text)
+
+
+#: Largest length anywhere in a scenario, mm (10 m): the FE model's coordinates stay far
+#: from round-off trouble, and any real crawler fits.
+MAX_LENGTH = 1e4
 
 
 class BodyConfig(_Section):
@@ -33,16 +42,19 @@ class BodyConfig(_Section):
         _BODY.length,
         "rest distance between the first and the last bristle (the two ends), mm; the "
         "bristles are spread evenly over it",
+        MAX_LENGTH,
     )
     mass: float = _pos(
         _BODY.mass,
         "total mass of the body, t, shared equally by one point mass above each bristle "
-        "(the paper: 55 g, 27.5 g at each end)",
+        "(the paper: 55 g, 27.5 g at each end), at most 1 t",
+        1.0,
     )
     link_length: float = _pos(
         _BODY.link_length,
         "rigid vertical links from each end down to a bristle clamp, mm (not given in "
         "the paper; a studied parameter)",
+        MAX_LENGTH,
     )
     free_pitch: bool = Field(_BODY.free_pitch, description="body free to pitch (else kept level)")
 
@@ -50,15 +62,21 @@ class BodyConfig(_Section):
 class BristleConfig(_Section):
     """Tapered rectangular silicone bristle (Shore A 40), clamped at alpha from the vertical."""
 
-    length: float = _pos(_BRISTLE.length, "bristle length, mm")
-    width: float = _pos(_BRISTLE.width, "out-of-plane width b, mm")
-    thickness_clamp: float = _pos(_BRISTLE.thickness_clamp, "thickness at the clamp h0, mm")
-    thickness_tip: float = _pos(_BRISTLE.thickness_tip, "thickness at the tip h1, mm")
-    youngs_modulus: float = _pos(_BRISTLE.youngs_modulus, "Young's modulus E, MPa")
+    length: float = _pos(_BRISTLE.length, "bristle length, mm", MAX_LENGTH)
+    width: float = _pos(_BRISTLE.width, "out-of-plane width b, mm", MAX_LENGTH)
+    thickness_clamp: float = _pos(
+        _BRISTLE.thickness_clamp, "thickness at the clamp h0, mm", MAX_LENGTH
+    )
+    thickness_tip: float = _pos(_BRISTLE.thickness_tip, "thickness at the tip h1, mm", MAX_LENGTH)
+    youngs_modulus: float = _pos(
+        _BRISTLE.youngs_modulus, "Young's modulus E, MPa (1e-6 to 1e7)", 1e7, ge=1e-6
+    )
     poisson_ratio: float = Field(
         _BRISTLE.poisson_ratio, gt=-1.0, lt=0.5, description="Poisson's ratio, -"
     )
-    density: float = _pos(_BRISTLE.density, "mass density, t/mm^3 (1.3 g/cm^3)")
+    density: float = _pos(
+        _BRISTLE.density, "mass density, t/mm^3 (1.3 g/cm^3; 1e-15 to 1e-7)", 1e-7, ge=1e-15
+    )
     alpha_deg: float = Field(
         _BRISTLE.alpha_deg,
         gt=-80.0,
@@ -89,8 +107,20 @@ class DampingConfig(_Section):
         description="Rayleigh damping proportional to the mass or to the stiffness, with "
         "the ratio at the first resonance of the settled crawler; or 'explicit' a0, a1",
     )
-    a0: float = Field(_DAMPING.a0, ge=0.0, description="explicit mass coefficient, 1/s")
-    a1: float = Field(_DAMPING.a1, ge=0.0, description="explicit stiffness coefficient, s")
+    a0: float = Field(
+        _DAMPING.a0,
+        ge=0.0,
+        le=1e6,
+        allow_inf_nan=False,
+        description="explicit mass coefficient, 1/s",
+    )
+    a1: float = Field(
+        _DAMPING.a1,
+        ge=0.0,
+        le=1e3,
+        allow_inf_nan=False,
+        description="explicit stiffness coefficient, s",
+    )
 
 
 class ActuationConfig(_Section):
@@ -101,15 +131,15 @@ class ActuationConfig(_Section):
         description="stroke: s_max sin^2(pi t / period), a recorded history (history), or "
         "the closed-loop SMA actuator model (sma)",
     )
-    s_max: float = _pos(_ACTUATION.s_max, "peak shortening s~ of each body segment, mm")
-    period: float = _pos(_ACTUATION.period, "cycle period T, s")
+    s_max: float = _pos(_ACTUATION.s_max, "peak shortening s~ of each body segment, mm", MAX_LENGTH)
+    period: float = _pos(_ACTUATION.period, "cycle period T, s (1e-3 to 1e5)", 1e5, ge=1e-3)
     cycles: int = Field(_ACTUATION.cycles, ge=1, le=10_000, description="number of cycles")
     history: str | None = Field(
         None,
         description="CSV file of a shortening history (columns t in s and s in mm), "
         "relative to the scenario file",
     )
-    settle_time: float = _pos(_ACTUATION.settle_time, "step 1 (gravity) duration, s")
+    settle_time: float = _pos(_ACTUATION.settle_time, "step 1 (gravity) duration, s", 1e4)
     gait: Literal["breathing", "peristaltic"] = Field(
         _ACTUATION.gait,
         description="breathing: every segment follows s(t) together; peristaltic: segment j "
@@ -118,6 +148,7 @@ class ActuationConfig(_Section):
     lag: float = Field(
         _ACTUATION.lag,
         ge=0.0,
+        le=1e5,
         allow_inf_nan=False,
         description="delay between neighbouring segments of a peristaltic gait, s",
     )
@@ -133,9 +164,16 @@ class SolverConfig(_Section):
     """Implicit dynamics with an adaptive step."""
 
     hht_alpha: float = Field(_SOLVER.hht_alpha, ge=-1.0 / 3.0, le=0.0, description="HHT alpha, -")
-    dt_max: float = _pos(_SOLVER.dt_max, "largest time step, s")
-    dt_min: float = _pos(_SOLVER.dt_min, "smallest time step before giving up, s")
-    tolerance: float = _pos(_SOLVER.tolerance, "Newton tolerance on the relative residual, -")
+    dt_max: float = _pos(_SOLVER.dt_max, "largest time step, s", 1e3)
+    dt_min: float = _pos(
+        _SOLVER.dt_min, "smallest time step before giving up, s (at least 1e-12)", 1e3, ge=1e-12
+    )
+    tolerance: float = _pos(
+        _SOLVER.tolerance,
+        "Newton tolerance on the relative residual, - (1e-15 to 0.1)",
+        0.1,
+        ge=1e-15,
+    )
     max_iterations: int = Field(
         _SOLVER.max_iterations,
         ge=2,
@@ -238,6 +276,7 @@ class ContactConfig(_Section):
     penalty_load: float | None = Field(
         _CONTACT.penalty_load,
         gt=0.0,
+        le=1e6,
         allow_inf_nan=False,
         description="penalty load, N: the normal penalty keeps penetration below 1e-3 mm and "
         "the stick drift below contact.stick_drift at this load; null: the weight on one "
@@ -246,6 +285,7 @@ class ContactConfig(_Section):
     stick_drift: float = Field(
         _CONTACT.stick_drift,
         gt=0.0,
+        le=1.0,
         allow_inf_nan=False,
         description="elastic tangential displacement in stick at the friction limit of the "
         "penalty load, mm (sets the stick penalty k_t = mu load / stick_drift). `paper` "
@@ -257,6 +297,7 @@ class ContactConfig(_Section):
     active_points: int | None = Field(
         _CONTACT.active_points,
         ge=1,
+        le=100_000,
         description="broad phase: contact points evaluated per Newton iteration, the ones "
         "reaching lowest (the corner term is separate). Exact while at most this many "
         "points reach below the substrate's top (the paper run has up to 7); a run where "
@@ -285,7 +326,11 @@ class Scenario(_Section):
     damping: DampingConfig = DampingConfig()
     actuation: ActuationConfig = ActuationConfig()
     gravity: float = Field(
-        9810.0, ge=0.0, allow_inf_nan=False, description="gravitational acceleration, mm/s^2"
+        9810.0,
+        ge=0.0,
+        le=1e6,
+        allow_inf_nan=False,
+        description="gravitational acceleration, mm/s^2 (0 only with contact.penalty_load)",
     )
     solver: SolverConfig = SolverConfig()
     output: OutputConfig = OutputConfig()
@@ -297,6 +342,16 @@ class Scenario(_Section):
                 f"actuation.s_max ({self.actuation.s_max:g} mm) must be smaller than the body "
                 f"length ({self.body.length:g} mm)"
             )
+        if self.actuation.kind != "history":
+            check_bristles_clear(self, self.actuation.s_max)
+        check_substrate_scale(self.substrate.model_dump())
+        if self.gravity == 0 and self.contact.penalty_load is None:
+            raise ValueError(
+                "gravity = 0 leaves no weight to press the bristles on the substrate and to "
+                "size the contact penalty: give gravity > 0 or contact.penalty_load (N)"
+            )
+        if self.actuation.kind != "history":
+            check_step_count(self, self.actuation.cycles * self.actuation.period)
         if self.bristle.thickness_tip > self.bristle.thickness_clamp * 50:
             raise ValueError("bristle.thickness_tip is implausibly larger than the clamp's")
         if self.solver.dt_min >= self.solver.dt_max:
@@ -307,3 +362,65 @@ class Scenario(_Section):
                 f"than solver.max_iterations ({self.solver.max_iterations})"
             )
         return self
+
+
+#: Most time steps a scenario may ask for (at least cycles * period / dt_max): the paper
+#: run takes about 2,400.
+MAX_STEPS = 1e6
+
+
+def check_step_count(sc: Scenario, duration: float) -> None:
+    """ValueError if a stroke of ``duration`` s needs more than MAX_STEPS time steps of
+    solver.dt_max."""
+    steps = duration / sc.solver.dt_max
+    if steps > MAX_STEPS:
+        raise ValueError(
+            f"the stroke ({duration:.3g} s) takes at least {steps:.3g} time steps of "
+            f"solver.dt_max = {sc.solver.dt_max:g} s, more than {MAX_STEPS:g}: shorten the "
+            "run (actuation.cycles, actuation.period, the history) or raise solver.dt_max"
+        )
+
+
+def check_bristles_clear(sc: Scenario, s_max: float) -> None:
+    """ValueError if neighbouring bristles overlap at the peak shortening ``s_max`` (mm) of
+    a segment. Their clamps sit a segment apart (the body length over count - 1), segment
+    - s~ at the peak; each bristle reaches length * sin(alpha) along the body from its
+    clamp (the tips trail), and the clamp is thickness_clamp thick."""
+    import math
+
+    gap = sc.body.length / (sc.bristle.count - 1) - s_max
+    reach = sc.bristle.length * abs(math.sin(math.radians(sc.bristle.alpha_deg)))
+    need = reach + sc.bristle.thickness_clamp
+    if gap <= need:
+        raise ValueError(
+            f"a peak shortening of {s_max:g} mm (actuation.s_max or the history) brings the "
+            "bristle clamps "
+            f"{gap:g} mm apart at peak shortening (the segment length minus s_max); the "
+            "bristles overlap "
+            f"unless that exceeds bristle.length * sin(alpha) + bristle.thickness_clamp = "
+            f"{need:.3g} mm"
+        )
+
+
+def check_substrate_scale(sub: dict) -> None:
+    """Bounds a ``[substrate]`` table's own schema does not state: lengths within
+    +-MAX_LENGTH mm (a phase of 1e308 mm divides to nonsense) and a friction coefficient of
+    at most 10. Numbers only; other values are left to the table's schema."""
+
+    def numbers(value):
+        if isinstance(value, bool):
+            return []
+        if isinstance(value, float | int):
+            return [value]
+        if isinstance(value, list | tuple):
+            return [x for v in value for x in numbers(v)]
+        return []
+
+    mu = numbers(sub.get("mu"))
+    if mu and mu[0] > 10.0:
+        raise ValueError(f"substrate.mu ({mu[0]:g}) must be at most 10")
+    for key, value in sub.items():
+        if key in ("kind", "mu", "rise_fraction"):
+            continue
+        if any(abs(v) > MAX_LENGTH for v in numbers(value)):
+            raise ValueError(f"substrate.{key} must be within +-{MAX_LENGTH:g} mm, got {value}")

@@ -28,20 +28,83 @@ class StrictSection(BaseModel):
         return data
 
 
-def first_error_message(exc: ValidationError) -> str:
-    """One line: the first problem, naming the parameter."""
+def first_error_message(
+    exc: ValidationError,
+    model: type[BaseModel] | None = None,
+    names: dict[str, str] | None = None,
+) -> str:
+    """One line: the first problem, naming the parameter (as ``names`` spells it, e.g. a
+    command-line option), and (given the ``model``) what the parameter is, with its unit,
+    from the field's description."""
     err = exc.errors()[0]
-    loc = ".".join(str(p) for p in err.get("loc", ()) if p != "__root__")
-    msg = str(err.get("msg", "invalid value"))
+    loc = [p for p in err.get("loc", ()) if p != "__root__"]
+    msg = _bound_message(err) or str(err.get("msg", "invalid value"))
     msg = msg.removeprefix("Value error, ")
-    where = f"{loc}: " if loc else ""
+    what = _description(model, loc) if model is not None else None
+    shown = [names.get(p, p) if names and i == 0 else p for i, p in enumerate(loc)]
+    where = f"{'.'.join(str(p) for p in shown)}: " if loc else ""
+    if what and err.get("type") != "value_error":
+        msg = f"{msg} ({what})"
     extra = f" (and {len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
     return f"{where}{msg}{extra}"
 
 
-def parse_model(model: type[M], data: dict[str, Any]) -> M:
-    """Validate ``data`` into ``model``; raise :class:`InputError` with one line on failure."""
+_BOUNDS = {
+    "greater_than": (">", "gt"),
+    "greater_than_equal": (">=", "ge"),
+    "less_than": ("<", "lt"),
+    "less_than_equal": ("<=", "le"),
+}
+
+
+def _bound_message(err: dict) -> str | None:
+    """``must be <= 1e+07, got 1e+308`` for a bound pydantic checked (its own message
+    spells 1e-9 as 0.000000001)."""
+    if err.get("type") == "finite_number":
+        return f"must be a finite number, got {err.get('input')!r}"
+    if err.get("type") not in _BOUNDS:
+        return None
+    op, key = _BOUNDS[err["type"]]
+    bound, value = err.get("ctx", {}).get(key), err.get("input")
+    if isinstance(value, int) and not isinstance(value, bool):
+        return f"must be {op} {bound:g}, got {value}"
+    try:
+        return f"must be {op} {bound:g}, got {value:g}"
+    except (TypeError, ValueError):
+        return None
+
+
+def _short(description: str) -> str:
+    """The first clause of a field description: what it is, and its unit."""
+    for stop in (": ", ". ", "; "):
+        description = description.split(stop)[0]
+    return description if len(description) <= 100 else description[:97] + "..."
+
+
+def _description(model: type[BaseModel], loc: list) -> str | None:
+    """The description of the field at ``loc`` (nested models followed), if any."""
+    field = None
+    for part in loc:
+        fields = getattr(model, "model_fields", None)
+        if not isinstance(part, str) or not fields or part not in fields:
+            return None
+        field = fields[part]
+        model = field.annotation
+    if field is None or not field.description:
+        return None
+    return _short(field.description)
+
+
+def parse_model(model: type[M], data: dict[str, Any], names: dict[str, str] | None = None) -> M:
+    """Validate ``data`` into ``model``; raise :class:`InputError` with one line on failure
+    (naming a parameter as ``names`` spells it, if given)."""
     try:
         return model.model_validate(data)
     except ValidationError as exc:
-        raise InputError(first_error_message(exc)) from None
+        raise InputError(first_error_message(exc, model, names)) from None
+
+
+def option_names(model: type[BaseModel], **renamed: str) -> dict[str, str]:
+    """``{field: "--field-name"}`` for a model filled from command-line options; fields
+    whose option is spelt otherwise are given as ``field="--option"``."""
+    return {f: renamed.get(f, "--" + f.replace("_", "-")) for f in model.model_fields}
