@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import bristlecrawler as bc
-from bristlecrawler.crawler import Actuation, CrawlerSpec, run
+from bristlecrawler.crawler import DEFAULT_STAGES, Actuation, CrawlerSpec, run
 
 
 @dataclass(frozen=True)
@@ -43,10 +43,10 @@ def reduced_per_cycle(spec: CrawlerSpec) -> np.ndarray:
     return np.asarray(result.per_cycle()[0])
 
 
-def compare(n_bristles: int, spec: CrawlerSpec) -> Row:
-    """Run ``spec`` with ``n_bristles`` spread over its body, FE and reduced."""
+def compare(n_bristles: int, spec: CrawlerSpec, stages=DEFAULT_STAGES) -> Row:
+    """Run ``spec`` with ``n_bristles`` spread over its body, FE (``stages``) and reduced."""
     spec = spec.with_bristles(n_bristles)
-    h = run(spec)
+    h = run(spec, stages)
     return Row(
         bristles=n_bristles,
         fe_per_cycle=h.advance_per_cycle(),
