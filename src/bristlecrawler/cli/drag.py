@@ -58,7 +58,9 @@ def drag_cmd(
     if assign:
         sc = apply_overrides(sc, list(assign))
     test = DragTest(direction, distance, speed, legs, 0, load)
-    ratio = quasi_static_ratio(to_spec(sc), test)
+    spec = to_spec(sc)
+    test.check(spec)  # bad input: one line, before the warning and any work
+    ratio = quasi_static_ratio(spec, test)
     if ratio > 0.05:
         typer.echo(
             f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
