@@ -57,18 +57,38 @@ class DragTest:
     load: float | None = None
     resolution: float = 0.02
 
+    @property
+    def ramp(self) -> float:
+        """Time over which the carriage speeds up from rest or down to it, s: the speed
+        follows sin^2 there, so no step of velocity shakes the carriage."""
+        return min(0.5, 0.2 * self.distance / self.speed)
+
+    def leg_times(self) -> np.ndarray:
+        """Start and end of each leg, s from the start of the drag."""
+        legs = 1 if self.direction != "cycle" else self.legs
+        return np.arange(legs + 1) * (self.distance / self.speed + self.ramp)
+
     def path(self) -> tuple[np.ndarray, np.ndarray]:
         """Knots of the carriage's path: times from the start of the drag (s) and
-        displacements (mm)."""
-        legs = 1 if self.direction != "cycle" else self.legs
+        displacements (mm), each leg at constant speed between sin^2 ramps."""
+        v, tr, d = self.speed, self.ramp, self.distance
+        tau = np.linspace(0.0, tr, 17)
+        up = v * (0.5 * tau - tr / (2 * np.pi) * np.sin(np.pi * tau / tr))  # from rest
+        ts, xs = [], []
         sign = -1.0 if self.direction == "against" else 1.0
-        x = sign * self.distance * (np.arange(legs + 1) % 2)
-        t = np.arange(legs + 1) * self.distance / self.speed
-        return t, x
+        for j, t0 in enumerate(self.leg_times()[:-1]):
+            s = sign * (1.0 if j % 2 == 0 else -1.0)
+            x0 = 0.0 if j % 2 == 0 else sign * d
+            T = d / v + tr
+            ts += [t0 + tau, t0 + T - tau[::-1]]
+            xs += [x0 + s * up, x0 + s * (d - up[::-1])]
+        t, x = np.concatenate(ts), np.concatenate(xs)
+        keep = np.concatenate([[True], np.diff(t) > 1e-12])
+        return t[keep], x[keep]
 
     @property
     def duration(self) -> float:
-        return float(self.path()[0][-1])
+        return float(self.leg_times()[-1])
 
     def check(self, spec: CrawlerSpec) -> None:
         if self.direction not in ("along", "against", "cycle"):
@@ -182,14 +202,19 @@ def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
 def _make_drag_observer(topo, terms, contact_index, clamp, tip_points):
     @jax.jit
     def observe(state, params):
-        x, full, f_terms, h, energies = state_terms(state, params, topo, terms, contact_index)
-        push = jnp.sum(full[:, :2], axis=0)  # what the carriage applies to the bristle
+        x, full, f_int, f_terms, h, energies = state_terms(
+            state, params, topo, terms, contact_index
+        )
+        # The drive's force (the carriage's inertia and damping included): the energy
+        # check's connector, along the carriage's travel.
+        drive = jnp.sum(full[:, :2], axis=0)
         on_bristle = -jnp.sum(f_terms[:, :2], axis=0)  # what the substrate applies
         return {
             "t": state.t,
             "x": x,
-            # The energy check's connector: the carriage's push along its own travel.
-            "fc": push[:1],
+            "fc": drive[:1],
+            # What the clamp transmits into the bristle: its elements' elastic force.
+            "push": f_int[clamp, :2],
             "stretch": state.u[clamp, :1],
             "lift": state.u[clamp, 1],
             "contact": on_bristle,

@@ -39,7 +39,8 @@ class DragResult:
     Attributes:
         t: s from the start of the drag. x: carriage displacement, mm. lift: carriage
             vertical displacement, mm. force_x: horizontal force the carriage applies, N
-            (+x). contact: force of the substrate on the bristle (x, y), N, (M, 2).
+            (+x): what its clamp transmits into the bristle. contact: force of the
+            substrate on the bristle (x, y), N, (M, 2).
         tip: tip position, mm, (M, 2). tip_state: :class:`ContactState` of the tip.
         energies: series in mJ (elastic, kinetic, potential, friction, damping, external).
         pitch: groove pitch, mm. load: vertical load on the bristle, N. mu: friction
@@ -216,14 +217,16 @@ def result_of(session) -> DragResult:
     settle = dm.spec.actuation.settle_time
     t = np.array([float(r["t"]) for r in records]) - settle
     x = np.array([float(r["stretch"][0]) for r in records])
-    fx = np.array([float(r["fc"][0]) for r in records])
+    drive = np.array([float(r["fc"][0]) for r in records])
+    fx = np.array([float(r["push"][0]) for r in records])
     en = np.stack([np.asarray(r["energies"]) for r in records])
     nodes = np.stack([np.asarray(r["x"]) for r in records])
-    knots_t, knots_x = dm.test.path()
+    knots_t = dm.test.leg_times()
     edges = np.searchsorted(t, knots_t - 1e-9)
     edges[-1] = t.size - 1
+    first = -1 if dm.test.direction == "against" else 1
     legs = tuple(
-        (int(edges[i]), int(edges[i + 1]), int(np.sign(knots_x[i + 1] - knots_x[i])))
+        (int(edges[i]), int(edges[i + 1]), first * (1 if i % 2 == 0 else -1))
         for i in range(len(knots_t) - 1)
     )
     stats = {
@@ -241,7 +244,7 @@ def result_of(session) -> DragResult:
         contact=np.stack([np.asarray(r["contact"]) for r in records]),
         tip=nodes[:, dm.chain[-1]],
         tip_state=np.array([int(np.asarray(r["tip_state"])[0]) for r in records]),
-        energies=energy_series(t, fx, x, en),
+        energies=energy_series(t, drive, x, en),
         pitch=substrate_pitch(dm.spec),
         load=dm.load,
         mu=dm.spec.contact.mu,

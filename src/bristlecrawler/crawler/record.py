@@ -69,8 +69,8 @@ def observer(cm):
 def state_terms(state, params, topo, terms, contact_index):
     """Node positions (mm), the full residual (N, (n, 3): inertia, damping, internal,
     contact and external forces; its sum over a free subtree is the force its support
-    applies), the contact term's history and the energies of a state (see
-    :data:`ENERGY_COLUMNS`)."""
+    applies), the internal (elastic) forces, the contact terms' forces, the contact term's
+    history and the energies of a state (see :data:`ENERGY_COLUMNS`)."""
     from bristlecrawler.fe import assembly
 
     # Every contact term (points, and corners against faces when present) shares the law.
@@ -92,7 +92,7 @@ def state_terms(state, params, topo, terms, contact_index):
             jnp.sum(v * damp),
         ]
     )
-    return params.X[:, :2] + u[:, :2], full, f_terms, hist[contact_index], energies
+    return params.X[:, :2] + u[:, :2], full, f_int, f_terms, hist[contact_index], energies
 
 
 def tip_states(h, tip_points):
@@ -109,7 +109,7 @@ def _make_observer(topo, terms, contact_index, body, subtrees, tip_points):
     @jax.jit
     def observe(state, params):
         X = params.X
-        x, full, _, h, energies = state_terms(state, params, topo, terms, contact_index)
+        x, full, _, _, h, energies = state_terms(state, params, topo, terms, contact_index)
         fc, stretch = [], []
         for j, sub in enumerate(subs):
             lam = jnp.sum(full[sub, :2], axis=0)
