@@ -13,7 +13,6 @@ import shutil
 from pathlib import Path
 
 import pytest
-from bristlecrawler.contact.substrate_config import GroovesConfig
 from hypothesis import given
 from hypothesis import strategies as st
 from pydantic import BaseModel
@@ -25,6 +24,7 @@ from bristlecrawler.scenario.experiment import AnalyzeOptions, SynthOptions
 from bristlecrawler.scenario.reduced import ReducedConfig
 from bristlecrawler.scenario.schema import MAX_LENGTH, Scenario
 from bristlecrawler.scenario.strict import option_names
+from bristlecrawler.scenario.substrate import GroovesConfig
 
 JUNK = st.sampled_from(["abc", "", "1e", "0x1p3", "1,5", "--", "nan%", "\u00bd"])
 

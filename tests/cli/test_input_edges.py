@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.jobs.simulate import apply_overrides, quality_warnings
+from bristlecrawler.jobs.simulate import quality_warnings
 from bristlecrawler.reduced.strokes import read_history_csv
-from bristlecrawler.scenario.load import load_scenario
+from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
 UNREADABLE = Path("/proc/self/mem")  # a file that exists and fails to read (EIO), even as root
 needs_unreadable = pytest.mark.skipif(not UNREADABLE.exists(), reason="needs /proc/self/mem")

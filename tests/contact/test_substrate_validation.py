@@ -3,15 +3,9 @@
 import numpy as np
 import pytest
 
-from bristlecrawler.contact import (
-    CoulombLaw,
-    Grooves,
-    GroovesConfig,
-    Polyline,
-    Sawtooth,
-    parse_substrate,
-)
+from bristlecrawler.contact import CoulombLaw, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
+from bristlecrawler.scenario.substrate import GroovesConfig, parse_substrate
 
 
 def _refused(match, fn, *args, **kwargs):

@@ -127,7 +127,7 @@ def test_a_folder_named_like_a_shipped_scenario_does_not_hide_it(tmp_path, monke
 
 
 def test_set_substrate_kind_starts_that_table_afresh():
-    from bristlecrawler.jobs.simulate import apply_overrides
+    from bristlecrawler.scenario.load import apply_overrides
 
     paper = load_scenario("paper")
     sc = apply_overrides(
