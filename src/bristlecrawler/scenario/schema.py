@@ -40,14 +40,14 @@ class BodyConfig(_Section):
 
     length: float = _pos(
         _BODY.length,
-        "rest distance between the first and the last bristle (the two ends), mm; the "
-        "bristles are spread evenly over it",
+        "rest distance between the first and the last bristle (the two ends; the "
+        "bristles are spread evenly over it), mm",
         MAX_LENGTH,
     )
     mass: float = _pos(
         _BODY.mass,
-        "total mass of the body, t, shared equally by one point mass above each bristle "
-        "(the paper: 55 g, 27.5 g at each end), at most 1 t",
+        "total mass of the body, shared equally by one point mass above each bristle "
+        "(the paper: 55 g, 27.5 g at each end; at most 1 t), t",
         1.0,
     )
     link_length: float = _pos(

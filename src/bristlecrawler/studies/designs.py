@@ -69,7 +69,7 @@ def _fmt(v) -> str:
 def resolve_base(study: Study, folder: Path | None) -> Base:
     """The base configuration with the study's ``[set]`` values applied and validated."""
     if study.model == "fe":
-        from bristlecrawler.jobs.simulate import apply_values
+        from bristlecrawler.scenario.load import apply_values
         from bristlecrawler.scenario.load import load_scenario
 
         base = study.base
