@@ -69,8 +69,7 @@ def _fmt(v) -> str:
 def resolve_base(study: Study, folder: Path | None) -> Base:
     """The base configuration with the study's ``[set]`` values applied and validated."""
     if study.model == "fe":
-        from bristlecrawler.scenario.load import apply_values
-        from bristlecrawler.scenario.load import load_scenario
+        from bristlecrawler.scenario.load import apply_values, load_scenario
 
         base = study.base
         if folder is not None and not Path(base).is_absolute() and (folder / base).is_file():
