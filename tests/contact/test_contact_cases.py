@@ -1,5 +1,5 @@
 """The frictional-contact verification cases of ``bristlecrawler verify`` (issue #4), run
-through the FE solver once per session (:func:`default_runs`, shared with the FE
+through the FE solver once per test process (:func:`default_runs`, shared with the FE
 verification test) and checked against their independent references.
 
 Tolerances are the error budgets of :mod:`bristlecrawler.verification.contact_rows`.

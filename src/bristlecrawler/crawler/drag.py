@@ -233,23 +233,21 @@ class DragStage:
 
     name: str = "drag"
 
-    def span(self, session) -> float:
-        return session.crawler.test.duration
+    def span(self, ctx) -> float:
+        return ctx.crawler.test.duration
 
-    def __call__(self, session) -> None:
-        session.report("")
-        session.records.append(
-            jax.device_get(session.crawler.observer()(session.state, session.model.params))
-        )
-        t0 = float(session.state.t)
-        t_end = t0 + self.span(session)
-        chunk = max(self.span(session) / 20.0, 0.5)
+    def __call__(self, ctx) -> None:
+        ctx.report("")
+        ctx.records.append(jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params)))
+        t0 = float(ctx.state.t)
+        t_end = t0 + self.span(ctx)
+        chunk = max(self.span(ctx) / 20.0, 0.5)
         t = t0
-        test = session.crawler.test
-        dt_max = min(session.spec.solver.dt_max, test.resolution / test.speed)
+        test = ctx.crawler.test
+        dt_max = min(ctx.spec.solver.dt_max, test.resolution / test.speed)
         while t < t_end - 1e-9:
-            session.advance(min(t + chunk, t_end), dt_max, "drag", check=True)
-            t = float(session.state.t)
+            ctx.advance(min(t + chunk, t_end), dt_max, "drag", check=True)
+            t = float(ctx.state.t)
 
 
 def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, on_progress=None):
@@ -257,14 +255,14 @@ def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, 
     import time
 
     from bristlecrawler.crawler.drag_analysis import result_of
-    from bristlecrawler.crawler.runner import ModalDamping, RunOptions, Session, Settle
+    from bristlecrawler.crawler.runner import ModalDamping, RunContext, RunOptions, Settle
 
     wall0 = time.perf_counter()
     dm = build_drag(spec, test)
-    session = Session(dm, options or RunOptions(), on_progress, t_end=0.0)
+    ctx = RunContext(dm, options or RunOptions(), on_progress, t_end=0.0)
     stages = (Settle(), ModalDamping(), DragStage())
-    session.t_end = sum(s.span(session) for s in stages)
+    ctx.t_end = sum(s.span(ctx) for s in stages)
     for stage in stages:
-        stage(session)
-    session.stats["wall_time_s"] = time.perf_counter() - wall0
-    return result_of(session)
+        stage(ctx)
+    ctx.stats["wall_time_s"] = time.perf_counter() - wall0
+    return result_of(ctx)

@@ -209,11 +209,11 @@ def _mean_over(x, f, lo, hi) -> float:
     return float(np.trapezoid(ff, xx) / (b - a))
 
 
-def result_of(session) -> DragResult:
-    """The :class:`DragResult` of a drag session's records."""
+def result_of(ctx) -> DragResult:
+    """The :class:`DragResult` of a drag ctx's records."""
     from bristlecrawler.crawler.drag import substrate_pitch
 
-    dm, records = session.crawler, session.records
+    dm, records = ctx.crawler, ctx.records
     settle = dm.spec.actuation.settle_time
     t = np.array([float(r["t"]) for r in records]) - settle
     x = np.array([float(r["stretch"][0]) for r in records])
@@ -231,10 +231,10 @@ def result_of(session) -> DragResult:
     )
     stats = {
         "steps": len(records) - 1,
-        "newton_iterations": session.iterations,
-        "rejected_steps": session.rejected,
-        "first_frequency_hz": session.omega1 / (2 * math.pi),
-        **session.stats,
+        "newton_iterations": ctx.iterations,
+        "rejected_steps": ctx.rejected,
+        "first_frequency_hz": ctx.omega1 / (2 * math.pi),
+        **ctx.stats,
     }
     return DragResult(
         t=t,

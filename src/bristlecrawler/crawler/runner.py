@@ -71,14 +71,14 @@ class Progress:
 
 
 class Stage(Protocol):
-    """A stage of a run: ``span(session)`` simulated seconds it adds (for progress), and
-    ``__call__(session)`` does its work on the session's state."""
+    """A stage of a run: ``span(ctx)`` simulated seconds it adds (for progress), and
+    ``__call__(ctx)`` does its work on the run's state."""
 
     name: str
 
-    def span(self, session: Session) -> float: ...
+    def span(self, ctx: RunContext) -> float: ...
 
-    def __call__(self, session: Session) -> None: ...
+    def __call__(self, ctx: RunContext) -> None: ...
 
 
 class _Failed(Exception):
@@ -88,7 +88,7 @@ class _Failed(Exception):
 
 
 @dataclass
-class Session:
+class RunContext:
     """The state a run's stages share: the crawler (a :class:`CrawlerModel`, or any
     object with ``model``, ``spec`` and ``observer()``: a drag test's), its current FE
     model (with the damping in force), dynamic state, step size, records and counters."""
@@ -191,42 +191,42 @@ class Settle:
 
     name: str = "gravity step"
 
-    def span(self, session: Session) -> float:
-        return session.spec.actuation.settle_time
+    def span(self, ctx: RunContext) -> float:
+        return ctx.spec.actuation.settle_time
 
-    def __call__(self, session: Session) -> None:
+    def __call__(self, ctx: RunContext) -> None:
         from bristlecrawler import fe
 
-        spec, opt = session.spec, session.options
-        session.damping = fe.Rayleigh.from_ratio(
+        spec, opt = ctx.spec, ctx.options
+        ctx.damping = fe.Rayleigh.from_ratio(
             max(spec.damping.ratio, 0.15), opt.settle_omega, "mass"
         )
-        session.model = session.damping.apply(session.crawler.model)
-        session.state = fe.initial_state(session.model)
-        session.dt = opt.dt0
-        session.report("compiling")
-        _time_compilation(session)
-        session.report(self.name)
-        session.advance(self.span(session), min(spec.solver.dt_max, 0.01), self.name, check=False)
-        session.records.clear()
+        ctx.model = ctx.damping.apply(ctx.crawler.model)
+        ctx.state = fe.initial_state(ctx.model)
+        ctx.dt = opt.dt0
+        ctx.report("compiling")
+        _time_compilation(ctx)
+        ctx.report(self.name)
+        ctx.advance(self.span(ctx), min(spec.solver.dt_max, 0.01), self.name, check=False)
+        ctx.records.clear()
 
 
-def _time_compilation(session: Session) -> None:
+def _time_compilation(ctx: RunContext) -> None:
     """The step's compilation (or its load from the persistent cache), timed apart: one
     call of the host driver's jitted step (same argument types) on the initial state."""
     from bristlecrawler import fe
 
-    if not session.host:
-        session.stats["compile_time_s"] = math.nan
+    if not ctx.host:
+        ctx.stats["compile_time_s"] = math.nan
         return
-    m = session.crawler.model
+    m = ctx.crawler.model
     t0 = time.perf_counter()
     step = fe.make_step(
-        m.topology, m.terms, session.spec.solver.integrator(session.spec.contact.max_penetration)
+        m.topology, m.terms, ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
     )
-    dt = jnp.asarray(float(session.options.dt0) * 1e-3)
-    jax.block_until_ready(step(session.state, session.model.params, dt))
-    session.stats["compile_time_s"] = time.perf_counter() - t0
+    dt = jnp.asarray(float(ctx.options.dt0) * 1e-3)
+    jax.block_until_ready(step(ctx.state, ctx.model.params, dt))
+    ctx.stats["compile_time_s"] = time.perf_counter() - t0
 
 
 @dataclass(frozen=True)
@@ -237,27 +237,27 @@ class ModalDamping:
 
     name: str = "modal analysis"
 
-    def span(self, session: Session) -> float:
+    def span(self, ctx: RunContext) -> float:
         return 0.0
 
-    def __call__(self, session: Session) -> None:
+    def __call__(self, ctx: RunContext) -> None:
         from bristlecrawler import fe
 
-        session.report(self.name)
-        d, state = session.spec.damping, session.state
-        modes = fe.modes(session.model, state.q, n_modes=1, t=float(state.t), history=state.history)
-        session.omega1 = float(modes.omega[0])
+        ctx.report(self.name)
+        d, state = ctx.spec.damping, ctx.state
+        modes = fe.modes(ctx.model, state.q, n_modes=1, t=float(state.t), history=state.history)
+        ctx.omega1 = float(modes.omega[0])
         if d.kind == "explicit":
-            session.damping = fe.Rayleigh(d.a0, d.a1)
+            ctx.damping = fe.Rayleigh(d.a0, d.a1)
         else:
-            _check_resonance(session, float(modes.eigenvalues[0]))
-            session.damping = fe.Rayleigh.from_ratio(d.ratio, session.omega1, d.kind)
-        session.model = session.damping.apply(session.crawler.model)
+            _check_resonance(ctx, float(modes.eigenvalues[0]))
+            ctx.damping = fe.Rayleigh.from_ratio(d.ratio, ctx.omega1, d.kind)
+        ctx.model = ctx.damping.apply(ctx.crawler.model)
 
 
-def _check_resonance(session: Session, w2: float) -> None:
-    zero = 1e-6 * session.options.settle_omega  # rad/s: below it the lowest mode does not resonate
-    if session.omega1 > zero:
+def _check_resonance(ctx: RunContext, w2: float) -> None:
+    zero = 1e-6 * ctx.options.settle_omega  # rad/s: below it the lowest mode does not resonate
+    if ctx.omega1 > zero:
         return
     if w2 < -(zero**2):
         why = (
@@ -267,7 +267,7 @@ def _check_resonance(session: Session, w2: float) -> None:
     else:
         why = "the crawler has a free rigid-body mode (no bristle sticks)"
     raise SolverError(
-        f"after the gravity step {why} at t = {float(session.state.t):.3g} s, so the damping "
+        f"after the gravity step {why} at t = {float(ctx.state.t):.3g} s, so the damping "
         "cannot be set at the first resonance; lengthen actuation.settle_time or give "
         "damping a0/a1"
     )
@@ -282,23 +282,21 @@ class Stroke:
     chunk: float | None = None
     name: str = "stroke"
 
-    def span(self, session: Session) -> float:
-        return session.spec.actuation.stroke_duration(session.spec.segments)
+    def span(self, ctx: RunContext) -> float:
+        return ctx.spec.actuation.stroke_duration(ctx.spec.segments)
 
-    def __call__(self, session: Session) -> None:
-        spec = session.spec
-        session.report("")
-        session.records.append(
-            jax.device_get(session.crawler.observer()(session.state, session.model.params))
-        )
+    def __call__(self, ctx: RunContext) -> None:
+        spec = ctx.spec
+        ctx.report("")
+        ctx.records.append(jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params)))
         chunk = self.chunk or max(spec.actuation.period / 20.0, 0.5)
-        t, t_end = float(session.state.t), float(session.state.t) + self.span(session)
-        wall0, it0 = time.perf_counter(), session.iterations
+        t, t_end = float(ctx.state.t), float(ctx.state.t) + self.span(ctx)
+        wall0, it0 = time.perf_counter(), ctx.iterations
         while t < t_end - 1e-9:
-            session.advance(min(t + chunk, t_end), spec.solver.dt_max, "stroke", check=True)
-            t = float(session.state.t)
-        session.stats["stroke_wall_time_s"] = time.perf_counter() - wall0
-        session.stats["stroke_newton_iterations"] = session.iterations - it0
+            ctx.advance(min(t + chunk, t_end), spec.solver.dt_max, "stroke", check=True)
+            t = float(ctx.state.t)
+        ctx.stats["stroke_wall_time_s"] = time.perf_counter() - wall0
+        ctx.stats["stroke_newton_iterations"] = ctx.iterations - it0
 
 
 @dataclass(frozen=True)
@@ -309,17 +307,17 @@ class Hold:
     duration: float
     name: str = "hold"
 
-    def span(self, session: Session) -> float:
+    def span(self, ctx: RunContext) -> float:
         return self.duration
 
-    def __call__(self, session: Session) -> None:
+    def __call__(self, ctx: RunContext) -> None:
         if not (math.isfinite(self.duration) and self.duration > 0):
             raise InputError(f"Hold duration must be a positive number of s, got {self.duration}")
-        if not session.records:
+        if not ctx.records:
             raise InputError("Hold records after the stroke: put it after Stroke()")
-        session.report(self.name)
-        t_end = float(session.state.t) + self.duration
-        session.advance(t_end, session.spec.solver.dt_max, self.name, check=True)
+        ctx.report(self.name)
+        t_end = float(ctx.state.t) + self.duration
+        ctx.advance(t_end, ctx.spec.solver.dt_max, self.name, check=True)
 
 
 DEFAULT_STAGES: tuple[Stage, ...] = (Settle(), ModalDamping(), Stroke())
@@ -337,21 +335,21 @@ def run(
     wall0 = time.perf_counter()
     cm = crawler if isinstance(crawler, CrawlerModel) else build(crawler)
     options = options or RunOptions()
-    session = Session(cm, options, on_progress, t_end=0.0)
-    session.t_end = sum(s.span(session) for s in stages)
+    ctx = RunContext(cm, options, on_progress, t_end=0.0)
+    ctx.t_end = sum(s.span(ctx) for s in stages)
     for stage in stages:
-        stage(session)
-    if not session.records:
+        stage(ctx)
+    if not ctx.records:
         raise InputError("a run needs a recording stage (Stroke) after the others")
-    session.stats["wall_time_s"] = time.perf_counter() - wall0
-    return history_of(session)
+    ctx.stats["wall_time_s"] = time.perf_counter() - wall0
+    return history_of(ctx)
 
 
-def history_of(session: Session) -> CrawlerHistory:
-    """The :class:`CrawlerHistory` of a session's records (times from the stroke's start)."""
+def history_of(ctx: RunContext) -> CrawlerHistory:
+    """The :class:`CrawlerHistory` of a ctx's records (times from the stroke's start)."""
     from bristlecrawler.contact.profile import drawing
 
-    cm, spec, records = session.crawler, session.spec, session.records
+    cm, spec, records = ctx.crawler, ctx.spec, ctx.records
     t = np.array([float(r["t"]) for r in records])
     x = np.stack([np.asarray(r["x"]) for r in records])
     fc = np.stack([np.asarray(r["fc"]) for r in records])
@@ -363,12 +361,12 @@ def history_of(session: Session) -> CrawlerHistory:
     a = spec.actuation
     stats = {
         "steps": len(records) - 1,
-        "newton_iterations": session.iterations,
-        "rejected_steps": session.rejected,
-        "first_frequency_hz": session.omega1 / (2 * math.pi),
-        "rayleigh_a0": session.damping.a0,
-        "rayleigh_a1": session.damping.a1,
-        **session.stats,
+        "newton_iterations": ctx.iterations,
+        "rejected_steps": ctx.rejected,
+        "first_frequency_hz": ctx.omega1 / (2 * math.pi),
+        "rayleigh_a0": ctx.damping.a0,
+        "rayleigh_a1": ctx.damping.a1,
+        **ctx.stats,
     }
     return CrawlerHistory(
         t=t - settle,
