@@ -4,7 +4,7 @@ Kinematics alone fix ``c = F_p/k``: the net advance after n cycles of a stroke s
 ``A = n s~ - (4n - 1) c`` (regime 3, ``A >= s~/4``) or ``A = s~/2 - c`` (regime 2,
 ``0 < A < s~/4``). The actuator work over the same cycles then fixes F_p, and k = F_p / c.
 Paper: 82 mm, 5 cycles, s~ = 20 mm -> F_p/k = 0.947 mm; 75 mJ -> F_p = 0.455 N, k = 0.480 N/mm.
-F_n cannot be identified from a two-bristle breathing gait (every F_n >= F_p gives the same
+F_n cannot be identified from a two-bristle breathing gait (every F_n > F_p gives the same
 motion).
 """
 

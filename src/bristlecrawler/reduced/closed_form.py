@@ -1,6 +1,6 @@
 """Closed-form gait and energetics of the two-bristle crawler (paper Section 4), all regimes.
 
-Two identical bristles (stiffness k, along-the-grain resistance F_p, any F_n >= F_p), stroke
+Two identical bristles (stiffness k, along-the-grain resistance F_p, any F_n > F_p), stroke
 0 -> s~ -> 0 repeated, starting unloaded. With ``c = F_p / k`` (mm) the left spring elongation
 ``e`` (right one ``-e``) follows a stop operator of ``s/2`` with bounds ``+-c``, hence three
 regimes (the paper derives only the third):

@@ -25,7 +25,7 @@ PAPER_LENGTH = 100.0
 PAPER_S_MAX = 20.0
 PAPER_PERIOD = 20.0
 PAPER_CYCLES = 5
-#: F_n is not identifiable from the two-bristle gait (any F_n >= F_p gives the same motion);
+#: F_n is not identifiable from the two-bristle gait (any F_n > F_p gives the same motion);
 #: the default anisotropy F_n / F_p used when none is given. It matters for N >= 3 bristles.
 DEFAULT_FN_OVER_FP = 3.0
 
@@ -100,6 +100,41 @@ class ReducedCrawler:
         """The paper's crawler (defaults) or a two-bristle crawler with the given values."""
         return cls.uniform(n_bristles=2, **kwargs)
 
+    @classmethod
+    def from_drag(
+        cls,
+        drag,
+        n_bristles: int = 2,
+        length: float = PAPER_LENGTH,
+        *,
+        segment_lengths=None,
+    ) -> ReducedCrawler:
+        """The crawler whose bristles all have a drag test's k, F_p and F_n.
+
+        Args:
+            drag: a drag test's result (anything with ``summary()``, such as
+                ``bristlecrawler.crawler.drag.DragResult``) or its summary mapping: reads
+                ``k_N_per_mm`` (first-loading slope), ``fp_N`` and ``fn_N``; a sequence of
+                them gives each bristle its own.
+            n_bristles: number of bristles, spread evenly over ``length`` (mm), unless
+                ``segment_lengths`` (mm, N-1 values) places them.
+
+        A bristle that resists both ways alike (alpha = 0, F_n within the scatter of F_p)
+        gets F_n = F_p. A drag test that never slid one way has no value for it: refused.
+        """
+        many = isinstance(drag, list | tuple)
+        values = [_drag_values(d) for d in (drag if many else [drag])]
+        if many:
+            n_bristles = len(values)
+        if segment_lengths is None:
+            if int(n_bristles) != n_bristles or n_bristles < 2:
+                raise InputError(f"a crawler needs at least 2 bristles, got {n_bristles}")
+            segment_lengths = np.full(int(n_bristles) - 1, float(length) / (n_bristles - 1))
+        k, fp, fn = (np.array([v[j] for v in values]) for j in range(3))
+        if not many:  # one test for every bristle
+            k, fp, fn = k[0], fp[0], fn[0]
+        return cls(k=k, fp=fp, fn=np.maximum(fn, fp), segment_lengths=segment_lengths)
+
     @property
     def n_bristles(self) -> int:
         return int(self.k.size)
@@ -123,3 +158,24 @@ class ReducedCrawler:
                 f"peak shortening {s[j]:g} mm must be smaller than the segment length "
                 f"{self.segment_lengths[j]:g} mm (segment {j})"
             )
+
+
+def _drag_values(drag) -> tuple[float, float, float]:
+    """(k, F_p, F_n) of a drag test's summary, refused with the missing one's name."""
+    summary = drag.summary() if hasattr(drag, "summary") else drag
+    names = {"k_N_per_mm": "k", "fp_N": "F_p", "fn_N": "F_n"}
+    out = []
+    for key, name in names.items():
+        try:
+            v = float(summary[key])
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"the drag test gives no {name} ({key})") from None
+        if not (np.isfinite(v) and v > 0):
+            how = {
+                "k": "the tip never stuck before it slipped",
+                "F_p": "it never slid along the grain",
+                "F_n": "it never slid against the grain (run direction cycle)",
+            }
+            raise InputError(f"the drag test gives no {name}: {how[name]} (got {v})")
+        out.append(v)
+    return out[0], out[1], out[2]

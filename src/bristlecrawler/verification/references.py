@@ -65,15 +65,24 @@ def tapered_axial_compliance(E, b, h0, h1, L) -> float:
     return L * math.log(h1 / h0) / (E * b * (h1 - h0))
 
 
-def inclined_horizontal_stiffness(E, b, h0, h1, L, alpha) -> float:
+def tapered_shear_compliance(G, b, h0, h1, L, kappa=5.0 / 6.0) -> float:
+    """Tip shear deflection per unit tip load (mm/N): int_0^L dx / (kappa G b h(x))
+    = L ln(h1/h0) / (kappa G b (h1 - h0)) (Timoshenko; kappa = 5/6 for a rectangle)."""
+    return tapered_axial_compliance(kappa * G, b, h0, h1, L)
+
+
+def inclined_horizontal_stiffness(E, b, h0, h1, L, alpha, nu=None, kappa=5.0 / 6.0) -> float:
     """Horizontal tip stiffness (N/mm) of a tapered bristle at angle ``alpha`` from vertical.
 
     A horizontal tip load H has components H sin(alpha) along the axis and H cos(alpha)
     across it; the horizontal tip displacement is H (sin^2 f_a + cos^2 f_b) (tip free
-    vertically, linear theory).
+    vertically, linear theory). Given Poisson's ratio ``nu``, the transverse compliance
+    f_b also has the shear term (G = E / (2 (1 + nu))).
     """
     fa = tapered_axial_compliance(E, b, h0, h1, L)
     fb = tapered_bending_compliance(E, b, h0, h1, L)
+    if nu is not None:
+        fb += tapered_shear_compliance(E / (2.0 * (1.0 + nu)), b, h0, h1, L, kappa)
     return 1.0 / (math.sin(alpha) ** 2 * fa + math.cos(alpha) ** 2 * fb)
 
 
