@@ -21,6 +21,7 @@ import pathlib
 
 from bristlecrawler.crawler import CrawlerSpec
 from bristlecrawler.crawler.drag import DragTest, drag_test
+from bristlecrawler.errors import SolverError
 from bristlecrawler.fe import enable_compilation_cache
 from bristlecrawler.verification.references import inclined_horizontal_stiffness
 
@@ -41,13 +42,24 @@ def _bristles(name):
     return lambda v: lambda s: s.replace_bristles(**{name: v})
 
 
+def _alpha(v):
+    def change(s):
+        s = s.replace_bristles(alpha_deg=v)
+        if v > 65:  # a bristle this inclined lays more of its face below the lands' top
+            c = dataclasses.replace(s.contact, active_points=max(s.contact.active_points, 48))
+            s = dataclasses.replace(s, contact=c)
+        return s
+
+    return change
+
+
 def _mu(v):
     return lambda s: dataclasses.replace(s, contact=dataclasses.replace(s.contact, mu=v))
 
 
 #: study -> (unit, values, value -> (spec -> spec))
 STUDIES = {
-    "alpha_deg": ("deg", (0, 15, 30, 45, 60, 75), _bristles("alpha_deg")),
+    "alpha_deg": ("deg", (0, 15, 30, 45, 60, 75), _alpha),
     "pitch": ("mm", (1.5, 2.0, 3.0), _grooves("pitch")),
     "depth": ("mm", (0.1, 0.25, 0.5), _grooves("depth")),
     "mu": ("-", (0.3, 0.65, 1.0), _mu),
@@ -63,13 +75,30 @@ def beam_stiffness(spec: CrawlerSpec, shear: bool) -> float:
     return inclined_horizontal_stiffness(*args, nu=nu)
 
 
+KEYS = (
+    "k_N_per_mm",
+    "k_beam_N_per_mm",
+    "k_beam_shear_N_per_mm",
+    "fp_N",
+    "fp_scatter_N",
+    "fn_N",
+    "fn_scatter_N",
+    "mu_load_N",
+    "fp_over_k_mm",
+    "dissipation_mJ_per_mm",
+    "energy_balance_rel_error",
+)
+
+
 def row(study: str, value: float, drag: DragTest = DRAG) -> dict:
     """One design of a study: its drag-test summary and the beam-theory stiffnesses."""
     spec = STUDIES[study][2](value)(PAPER)
-    s = drag_test(spec, drag).summary()
-    return {
-        "study": study,
-        "value": value,
+    head = {"study": study, "value": value}
+    try:
+        s = drag_test(spec, drag).summary()
+    except SolverError as exc:  # one design that fails does not end the study
+        return head | {k: math.nan for k in KEYS} | {"failure": str(exc)}
+    return head | {
         "k_N_per_mm": s["k_N_per_mm"],
         "k_beam_N_per_mm": beam_stiffness(spec, shear=False),
         "k_beam_shear_N_per_mm": beam_stiffness(spec, shear=True),
@@ -81,6 +110,7 @@ def row(study: str, value: float, drag: DragTest = DRAG) -> dict:
         "fp_over_k_mm": s["fp_over_k_mm"],
         "dissipation_mJ_per_mm": s["dissipation_mJ_per_mm"],
         "energy_balance_rel_error": s["energy_balance_rel_error"],
+        "failure": "",
     }
 
 
@@ -117,6 +147,7 @@ def figure(rows: list[dict], path: pathlib.Path) -> None:
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", nargs="+", choices=sorted(STUDIES), default=list(STUDIES))
+    ap.add_argument("--values", type=float, nargs="+", help="these values of the one study")
     ap.add_argument("--out", type=pathlib.Path, help="folder for drag-study.csv and .png")
     args = ap.parse_args(argv)
     enable_compilation_cache()
@@ -125,11 +156,12 @@ def main(argv: list[str] | None = None) -> None:
     print("|---" * (len(keys) + 2) + "|")
     rows = []
     for study in args.only:
-        for value in STUDIES[study][1]:
+        for value in args.values or STUDIES[study][1]:
             r = row(study, value)
             rows.append(r)
             vals = " | ".join(f"{r[k]:.3f}" if math.isfinite(r[k]) else "-" for k in keys)
-            print(f"| {study} | {value:g} | {vals} |", flush=True)
+            note = f" failed: {r['failure'][:160]}" if r["failure"] else ""
+            print(f"| {study} | {value:g} | {vals} |{note}", flush=True)
     if args.out:
         args.out.mkdir(parents=True, exist_ok=True)
         with open(args.out / "drag-study.csv", "w", newline="") as f:

@@ -71,8 +71,9 @@ def main(argv: list[str] | None = None) -> None:
     rows, t0 = [], time.perf_counter()
     for summary, p in check(args.alphas, args.strokes, args.cycles):
         _print_row(summary, p)
-        keep = ("k_N_per_mm", "fp_N", "fn_N", "fp_scatter_N", "fn_scatter_N")
-        rows.append(p.row() | {k: summary[k] for k in keep})
+        keep = ("k_N_per_mm", "k_unload_N_per_mm", "fp_N", "fn_N", "fp_scatter_N", "fn_scatter_N")
+        cycles = {f"fe_cycle_{i + 1}_mm": v for i, v in enumerate(p.fe_per_cycle)}
+        rows.append(p.row() | {k: summary[k] for k in keep} | cycles)
     print(f"\n{len(rows)} designs in {time.perf_counter() - t0:.0f} s")
     if args.out:
         with open(args.out, "w", newline="") as f:

@@ -106,3 +106,61 @@ def test_bad_drag_tests_are_refused_before_any_work(test, words):
 def test_the_paper_speed_is_quasi_static_for_the_bristle():
     assert quasi_static_ratio(PAPER, DragTest()) < 0.01
     assert quasi_static_ratio(PAPER, DragTest(speed=500.0)) > 0.5
+
+
+def _spring_drag(k=0.8, fp=0.2, fn=0.5, f0=-0.05, d=4.0, n=4001):
+    """The reduced model's bristle as a drag record: a spring of stiffness k (N/mm) whose
+    tip sticks until the force reaches +F_p (along) or -F_n (against), dragged along by d
+    and back; it starts with a force f0 (N) held by friction."""
+    from bristlecrawler.crawler.drag_analysis import DragResult
+
+    x = np.concatenate([np.linspace(0.0, d, n), np.linspace(d, 0.0, n)[1:]])
+    tip, f, state = -f0 / k, [], []
+    for xi in x:
+        force = k * (xi - tip)
+        slipping = force > fp or force < -fn
+        force = min(max(force, -fn), fp)
+        tip = xi - force / k
+        f.append(force)
+        state.append(2 if slipping else 1)
+    m = x.size
+    zeros = {name: np.zeros(m) for name in ("elastic", "kinetic", "potential", "friction")}
+    return DragResult(
+        t=np.arange(m, dtype=float),
+        x=x,
+        lift=np.zeros(m),
+        force_x=np.asarray(f),
+        contact=np.zeros((m, 2)),
+        tip=np.zeros((m, 2)),
+        tip_state=np.asarray(state),
+        energies=zeros | {"damping": np.zeros(m), "external": np.zeros(m)},
+        pitch=1.0,
+        load=1.0,
+        mu=0.5,
+        legs=((0, n - 1, 1), (n - 1, m - 1, -1)),
+    )
+
+
+def test_a_linear_spring_with_a_directional_law_gives_back_its_k_fp_and_fn():
+    """The analysis reads the reduced model's own bristle back: the sliding means are F_p
+    and F_n, and the travel to reach them (from the start, and from the turn, where the
+    force swings from +F_p to -F_n) gives k."""
+    r = _spring_drag()
+    s = r.summary()
+    assert s["fp_N"] == pytest.approx(0.2, rel=1e-9)
+    assert s["fn_N"] == pytest.approx(0.5, rel=1e-9)
+    assert s["k_N_per_mm"] == pytest.approx(0.8, rel=1e-9)
+    assert s["k_unload_N_per_mm"] == pytest.approx(0.8, rel=1e-9)
+    assert s["k_initial_N_per_mm"] == pytest.approx(0.8, rel=1e-6)
+
+
+def test_on_a_flat_plane_the_secant_stiffness_is_the_beams_too():
+    """A bristle that sticks until mu N on a flat plane is a linear spring up to its slip:
+    the travel to build the sliding force gives the tapered cantilever's stiffness as
+    the stick tangent does (the secant reads the first, coarsest steps of the ramp too)."""
+    spec, r = _flat()
+    b = spec.bristles[0]
+    k = inclined_horizontal_stiffness(
+        b.youngs_modulus, b.width, b.thickness_clamp, b.thickness_tip, b.length, b.alpha
+    )
+    assert 0.95 < r.secant_stiffness(0) / k < 1.08

@@ -90,8 +90,9 @@ def _print(s: dict) -> None:
     table.add_column("quantity")
     table.add_column("value", justify="right")
     rows = [
-        ("k, first loading (N/mm)", "k_N_per_mm"),
+        ("k, first loading to F_p (N/mm)", "k_N_per_mm"),
         ("k after a reversal (N/mm)", "k_unload_N_per_mm"),
+        ("k, tangent while the tip sticks (N/mm)", "k_initial_N_per_mm"),
         ("F_p, sliding along (N)", "fp_N"),
         ("  scatter over pitches (N)", "fp_scatter_N"),
         ("F_n, sliding against (N)", "fn_N"),

@@ -1,7 +1,10 @@
 """A drag test's record and the reduced-model parameters read from it.
 
-* k: the slope of the carriage force against its travel on the first loading, before
-  the tip first slips; and after each reversal, before it slips again (unloading).
+* k: the travel the carriage needs to build the sliding force, as the reduced model's
+  spring does: the secant from the force at the start of the first leg until 90 % of
+  the way to the leg's sliding force F_p (or F_n); after each reversal the same from the
+  force at the turn to the new direction's sliding force (unloading). And the tangent of
+  the first loading while the tip sticks (the small-load stiffness beam theory gives).
 * F_p, F_n: the mean horizontal force while sliding along and against the grain, as the
   work over whole pitches divided by their length (so the snaps over the grooves count
   with their weight), with the pitch-to-pitch scatter and the peaks.
@@ -67,12 +70,14 @@ class DragResult:
     def first_slip(self, leg: int) -> int | None:
         """Index of the first sample of leg ``leg`` at which the tip slips."""
         a, b, _ = self.legs[leg]
+        a += leg > 0  # a leg's first sample is the last of the one before
         slips = np.flatnonzero(self.tip_state[a : b + 1] == ContactState.SLIP)
         return None if slips.size == 0 else a + int(slips[0])
 
     def stick_slope(self, leg: int = 0) -> float:
         """dF/dx (N/mm) over the leg's stick phase (from a tenth of the way to the first
-        slip up to it; least squares), or NaN when the tip never sticks there."""
+        slip up to it; least squares), or NaN when the tip never sticks there: the
+        tangent stiffness at the start of the loading."""
         a, _, _ = self.legs[leg]
         k = self.first_slip(leg)
         if k is None or k - a < 4:
@@ -82,6 +87,27 @@ class DragResult:
         if keep.sum() < 3:
             return math.nan
         return float(np.polyfit(x[keep], f[keep], 1)[0])
+
+    def secant_stiffness(self, leg: int = 0, share: float = 0.9) -> float:
+        """Force change over carriage travel (N/mm) from the leg's start until the force
+        has covered ``share`` of the way to the sliding force of its direction (+F_p
+        along, -F_n against); NaN when it never gets there. It is the reduced model's k:
+        its spring takes (F_slide - F_start) / k of travel to slide. Short of the whole
+        way, so that the ripple of the sliding force does not move the end point."""
+        a, b, d = self.legs[leg]
+        slide = self.sliding(d)
+        if slide is None:
+            return math.nan
+        f0 = self.force_x[a]
+        target = f0 + share * (d * slide.mean - f0)
+        reached = np.flatnonzero(d * (self.force_x[a : b + 1] - target) >= 0.0)
+        if reached.size == 0 or reached[0] == 0:
+            return math.nan
+        i = a + int(reached[0])
+        f1, f2 = self.force_x[i - 1], self.force_x[i]
+        w = (target - f1) / (f2 - f1)  # the crossing between the two samples (f2 != f1)
+        x_at = self.x[i - 1] + w * (self.x[i] - self.x[i - 1])
+        return float(abs(target - f0) / abs(x_at - self.x[a]))
 
     def sliding(self, direction: int) -> Sliding | None:
         """The sliding force of the legs in ``direction`` (+1 along, -1 against), over the
@@ -120,7 +146,7 @@ class DragResult:
         """The parameters (units in the keys; NaN where the test does not give one)."""
         nan = math.nan
         along, against = self.sliding(+1), self.sliding(-1)
-        unload = [self.stick_slope(i) for i in range(1, len(self.legs))]
+        unload = [self.secant_stiffness(i) for i in range(1, len(self.legs))]
         unload = [v for v in unload if math.isfinite(v)]
 
         def part(s: Sliding | None, name: str) -> dict:
@@ -135,10 +161,11 @@ class DragResult:
             }
 
         fp = along.mean if along else nan
-        k = self.stick_slope(0)
+        k = self.secant_stiffness(0)
         return {
             "k_N_per_mm": k,
             "k_unload_N_per_mm": float(np.mean(unload)) if unload else nan,
+            "k_initial_N_per_mm": self.stick_slope(0),
             **part(along, "fp"),
             **part(against, "fn"),
             "fp_over_k_mm": fp / k if k and math.isfinite(k) else nan,

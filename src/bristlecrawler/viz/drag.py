@@ -8,14 +8,22 @@ from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, _pyplot
 
 
 def plot_drag(r, title: str = ""):
-    """Force (N) against carriage travel (mm); stick blue-dashed, slip red; the sliding
-    means F_p and -F_n as horizontal lines, the first-loading slope k as a dotted line."""
+    """Force (N) against carriage travel (mm); stick blue-dashed, slip red, tip off the
+    substrate grey; the sliding means F_p and -F_n as horizontal lines, the first
+    loading's secant k (from the start to F_p) as a dotted line."""
+    from bristlecrawler.states import ContactState
+
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7.0, 4.0))
-    slip = r.tip_state == 2
-    for mask, style, label in ((~slip, STICK_STYLE, "stick"), (slip, SLIP_STYLE, "slip")):
-        x = np.where(mask, r.x, np.nan)
-        ax.plot(x, np.where(mask, r.force_x, np.nan), label=label, **style)
+    kinds = (
+        (ContactState.STICK, STICK_STYLE, "stick"),
+        (ContactState.SLIP, SLIP_STYLE, "slip"),
+        (ContactState.OPEN, {"color": "0.6", "lw": 1.0}, "tip off the substrate"),
+    )
+    for state, style, label in kinds:
+        mask = r.tip_state == state
+        if mask.any():
+            ax.plot(r.x, np.where(mask, r.force_x, np.nan), label=label, **style)
     s = r.summary()
     if np.isfinite(s["fp_N"]):
         ax.axhline(s["fp_N"], color="tab:green", lw=1.0, label=f"F_p = {s['fp_N']:.3f} N")
@@ -23,9 +31,10 @@ def plot_drag(r, title: str = ""):
         ax.axhline(-s["fn_N"], color="tab:purple", lw=1.0, label=f"-F_n = {-s['fn_N']:.3f} N")
     k = s["k_N_per_mm"]
     if np.isfinite(k):
-        reach = 0.5 * s["fp_N"] / k if np.isfinite(s["fp_N"]) else 0.5
-        xs = np.array([0.0, reach])
-        ax.plot(xs, r.force_x[0] + k * xs, "k:", lw=1.2, label=f"k = {k:.3f} N/mm")
+        d = r.legs[0][2]
+        target = d * (s["fp_N"] if d > 0 else s["fn_N"])
+        xs = r.x[0] + d * np.array([0.0, abs(target - r.force_x[0]) / k])
+        ax.plot(xs, [r.force_x[0], target], "k:", lw=1.2, label=f"k = {k:.3f} N/mm")
     ax.set_xlabel("carriage travel (mm)")
     ax.set_ylabel("horizontal force on the bristle (N)")
     ax.legend(loc="best", fontsize=8)
