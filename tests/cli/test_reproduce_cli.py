@@ -169,12 +169,12 @@ def test_a_bad_recording_is_refused_before_any_work(tmp_path, run_cli, content, 
     if content is not None:
         rec.write_text(content)
     out = tmp_path / "run"
-    code, stdout, err = run_cli(["reproduce", "--quick", "--recording", str(rec), "--out",
-                                 str(out)])
+    code, stdout, err = run_cli(
+        ["reproduce", "--quick", "--recording", str(rec), "--out", str(out)]
+    )
     assert code == 2 and stdout == ""
     assert err.startswith("error: --recording") and err.count("\n") == 1 and words in err
-    assert not out.exists() and list(tmp_path.iterdir()) == ([rec] if content is not None
-                                                             else [])
+    assert not out.exists() and list(tmp_path.iterdir()) == ([rec] if content is not None else [])
 
 
 def _boom(ctx):
@@ -185,10 +185,10 @@ def test_a_failed_part_is_reported_and_the_rest_written(tmp_path, run_cli, monke
     """A solver failure costs its own section: the report is complete otherwise and the
     exit code is 1."""
     real = rp.run_reproduce
-    parts = (rp.Part("fe-paper", "FE model", _boom), *(p for p in rp.PARTS if p.name ==
-                                                        "reduced"))
-    monkeypatch.setattr(rp, "run_reproduce",
-                        lambda opts: real(dataclasses.replace(opts, parts=parts)))
+    parts = (rp.Part("fe-paper", "FE model", _boom), *(p for p in rp.PARTS if p.name == "reduced"))
+    monkeypatch.setattr(
+        rp, "run_reproduce", lambda opts: real(dataclasses.replace(opts, parts=parts))
+    )
     out = tmp_path / "run"
     code, stdout, err = run_cli(["reproduce", "--quick", "--json", "--out", str(out)])
     assert code == 1

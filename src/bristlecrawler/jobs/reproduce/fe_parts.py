@@ -109,7 +109,9 @@ def run_vertical(ctx: Context) -> PartResult:
     phases = pitch * np.arange(m) / m
     runs, failed = [], []
     for j, phase in enumerate(phases):
-        sc = scenario("paper-vertical", ctx, ["actuation.cycles=1", f"substrate.phase={phase!r}"])
+        sc = scenario(
+            "paper-vertical", ctx, ["actuation.cycles=1", f"substrate.phase={float(phase)!r}"]
+        )
         try:
             runs.append((float(phase), solve(sc, ctx, (j / m, (j + 1) / m))))
         except SolverError as exc:

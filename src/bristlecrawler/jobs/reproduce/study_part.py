@@ -67,9 +67,18 @@ def _sweep(ctx: Context, name: str, text: str):
 
 
 def run_study(ctx: Context) -> PartResult:
+    import importlib.util
+
     from bristlecrawler.viz.reduced import save_figure
     from bristlecrawler.viz.reproduce import plot_study
 
+    missing = [m for m in ("distributed", "zarr") if importlib.util.find_spec(m) is None]
+    if missing:  # an install without the studies extra: say so, it is not a failure
+        text = (
+            f"Not run: the design study needs {' and '.join(missing)} "
+            '(`pip install -e ".[studies]"`).'
+        )
+        return PartResult("study", values={"skipped": text}, lines=(text,))
     n = 7 if ctx.settings.quick else 25
     red, red_sum = _sweep(ctx, "grip", REDUCED_STUDY.format(n=n))
     ctx.progress(0.2)
