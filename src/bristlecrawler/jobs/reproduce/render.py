@@ -71,6 +71,7 @@ def markdown(rep: Report) -> str:
 
 _INLINE = (
     (re.compile(r"\*\*(.+?)\*\*"), r"<strong>\1</strong>"),
+    (re.compile(r"(?<![\w*])\*([^*\s][^*]*?)\*(?![\w*])"), r"<em>\1</em>"),
     (re.compile(r"`(.+?)`"), r"<code>\1</code>"),
     (re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)"), r'<a href="\2">\1</a>'),
 )
@@ -135,7 +136,7 @@ table { border-collapse: collapse; font-size: 0.9em; }
 th, td { border: 1px solid #ccc; padding: 0.3em 0.5em; vertical-align: top; }
 th { background: #eef5f4; }
 td.agrees { color: #1a7f37; } td.differs { color: #b35900; font-weight: bold; }
-figure { margin: 1em 0; } img { max-width: 100%; border: 1px solid #eee; }
+figure { margin: 1em 0; } img { max-width: min(100%, 860px); border: 1px solid #eee; }
 figcaption { font-size: 0.85em; color: #555; }
 .failed { background: #fde8e8; border-left: 4px solid #c00; padding: 0.5em 1em; }
 code { background: #f4f4f4; padding: 0 0.2em; }
@@ -160,7 +161,7 @@ def to_html(rep: Report, folder: Path) -> str:
         verdict = cells[4]
         tds = [f"<td>{html.escape(c)}</td>" for c in cells]
         tds[4] = f'<td class="{verdict}">{html.escape(verdict)}</td>'
-        why = html.escape(r.reason)
+        why = _inline(r.reason)
         if r.link:
             why += f' (<a href="{html.escape(r.link)}">docs</a>)'
         out.append(f'<tr id="row-{r.key}">' + "".join(tds) + f"<td>{why}</td></tr>")
