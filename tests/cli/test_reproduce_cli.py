@@ -203,3 +203,16 @@ def test_a_failed_part_is_reported_and_the_rest_written(tmp_path, run_cli, monke
     assert rows["net_advance_mm"]["ours_text"] == "fe-paper failed"
     # The reduced model's calibration on the FE run says why it is missing.
     assert "did not finish" in (out / "report.md").read_text(encoding="utf-8")
+
+
+def test_a_given_recording_is_analysed_instead_of_the_synthetic_one(tmp_path):
+    from bristlecrawler.experiment import SensorModel, synthetic_recording, write_csv
+    from bristlecrawler.jobs.reproduce.experiment_part import load_recording
+    from bristlecrawler.reduced import ReducedCrawler
+
+    path = tmp_path / "trial.csv"
+    crawler = ReducedCrawler.two_bristle(fp=0.3, k=0.5)  # F_p/k = 0.6 mm, not the paper's
+    write_csv(synthetic_recording(crawler, cycles=3, sensor=SensorModel()), path)
+    _, analysis, source = load_recording(path)
+    assert source == path and analysis.signals.n_cycles == 3
+    assert analysis.fit.fp_over_k_mm == pytest.approx(0.6, abs=0.02)
