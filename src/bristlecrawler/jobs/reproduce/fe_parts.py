@@ -70,7 +70,7 @@ def run_paper(ctx: Context) -> PartResult:
     save_figure(plot_shapes(h), ctx.folder / figs[1].path)
     save_figure(plot_connector(h), ctx.folder / figs[2].path)
     ctx.progress(0.85)
-    keep = frame_subset(h, min(sc.output.frames_per_cycle, 24))
+    keep = frame_subset(h, ctx.settings.frames_per_cycle)
     framed = dataclasses.replace(h, frame_t=h.frame_t[keep], frame_nodes=h.frame_nodes[keep])
     animate(framed, ctx.folder / "fe-crawler")
     per_cycle = ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"])

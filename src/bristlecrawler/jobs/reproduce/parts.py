@@ -9,6 +9,7 @@ costs its own section and not the report. Adding a section is adding a Part.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import traceback
@@ -33,6 +34,7 @@ class Settings:
         drag_distance: travel of each leg of the drag test, mm.
         study_fe: whether the design study includes the FE inclination sweep.
         workers: Dask workers of the design study's local cluster.
+        frames_per_cycle: frames of the animation per cycle.
     """
 
     quick: bool = False
@@ -42,6 +44,7 @@ class Settings:
     drag_distance: float = 20.0
     study_fe: bool = True
     workers: int = 2
+    frames_per_cycle: int = 24
 
     @classmethod
     def full(cls) -> Settings:
@@ -58,6 +61,7 @@ class Settings:
             drag_distance=4.0,
             study_fe=False,
             workers=1,
+            frames_per_cycle=12,
         )
 
 
@@ -146,9 +150,7 @@ def run_part(part: Part, ctx: Context) -> PartResult:
         result = PartResult(
             part.name, ok=False, error=f"{type(exc).__name__}: {_one_line(exc)}{place}"
         )
-    from dataclasses import replace
-
-    return replace(result, wall_s=time.perf_counter() - t0)
+    return dataclasses.replace(result, wall_s=time.perf_counter() - t0)
 
 
 def _one_line(exc: BaseException) -> str:

@@ -65,7 +65,7 @@ class ReproduceRun:
         return {
             "rows": [r.as_dict() for r in self.rows],
             "parts": {
-                n: {"ok": r.ok, "error": r.error or None, "wall_s": r.wall_s}
+                n: {"ok": r.ok, "error": r.error or None, "wall_s": r.wall_s, "values": r.values}
                 for n, r in self.results.items()
             },
             "failed": list(self.failed),
