@@ -54,7 +54,7 @@ def run_drag(ctx: Context) -> PartResult:
         values["prediction"] = check
         lines.append(
             f"* prediction check: the reduced model with these k, F_p, F_n advances "
-            f"**{check['reduced_mm']:.2f} mm** over {check['cycles']} cycles, the FE crawler "
+            f"**{check['reduced_mm']:.2f} mm** over {check['cycles']} cycle(s), the FE crawler "
             f"{check['fe_mm']:.2f} mm ({check['reduced_mm'] - check['fe_mm']:+.2f} mm)"
         )
     return PartResult("drag", values=values, figures=(fig,), lines=tuple(lines))

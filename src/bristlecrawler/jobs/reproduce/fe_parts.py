@@ -65,7 +65,7 @@ def run_paper(ctx: Context) -> PartResult:
         ),
         Figure("fe-crawler.gif", "The crawler over the whole run (animation)."),
     )
-    title = f"paper: alpha = 45 deg, net {h.net_advance:.2f} mm over {n} cycles"
+    title = f"paper: alpha = 45 deg, net {h.net_advance:.2f} mm over {_cycles(n)}"
     save_figure(plot_delta_vs_s(h, title=title), ctx.folder / figs[0].path)
     save_figure(plot_shapes(h), ctx.folder / figs[1].path)
     save_figure(plot_connector(h), ctx.folder / figs[2].path)
@@ -76,7 +76,7 @@ def run_paper(ctx: Context) -> PartResult:
     per_cycle = ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"])
     lines = [
         f"The shipped `paper` scenario (alpha = 45 degrees, {sc.bristle.elements} elements "
-        f"per bristle, {n} cycles of s = 20 sin²(πt/20) mm; `bristlecrawler simulate paper` "
+        f"per bristle, {_cycles(n)} of s = 20 sin²(πt/20) mm; `bristlecrawler simulate paper` "
         "writes the same run with its NetCDF and ParaView files).",
         "",
         f"* net advance **{summary['net_advance_mm']:.3f} mm** (per cycle: {per_cycle} mm)",
@@ -155,6 +155,10 @@ def run_vertical(ctx: Context) -> PartResult:
         "failed_starting_places": len(failed),
     }
     return PartResult("fe-vertical", values=values, figures=(fig,), lines=tuple(lines))
+
+
+def _cycles(n: int) -> str:
+    return "1 cycle" if n == 1 else f"{n} cycles"
 
 
 def _fmt(x: float) -> str:

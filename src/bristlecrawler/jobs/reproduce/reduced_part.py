@@ -77,7 +77,7 @@ def _fe_line(ours: dict | None) -> str:
     if "error" in ours:
         return f"* not possible: {ours['error']}"
     return (
-        f"* {ours['cycles']} cycles, {ours['advance_mm']:.2f} mm, {ours['work_mJ']:.2f} mJ: "
+        f"* {ours['cycles']} cycle(s), {ours['advance_mm']:.2f} mm, {ours['work_mJ']:.2f} mJ: "
         f"F_p/k = **{ours['fp_over_k_mm']:.3f} mm**, F_p = **{ours['fp_N']:.3f} N**, "
         f"k = **{ours['k_N_per_mm']:.3f} N/mm**"
     )

@@ -103,9 +103,9 @@ def run_study(ctx: Context) -> PartResult:
     lines = [
         f"Reduced model, {red_sum['designs_total']} designs of F_p/k from {c[0]:.2f} to "
         f"{c[-1]:.1f} mm (`study-grip.toml`, store `study-grip/study.zarr`): the advance "
-        f"over five cycles falls from {np.nanmax(adv):.1f} mm as the grip grows, and the "
-        f"crawler stands still from F_p/k = {stop} mm on (the closed forms: no net motion "
-        "after the first cycle once F_p/k >= s~/4 = 5 mm).",
+        f"over five cycles falls from {np.nanmax(adv):.1f} mm as the grip grows and is "
+        f"zero from F_p/k = {stop} mm on (the closed forms: no motion after the first "
+        "cycle once F_p/k >= s~/4 = 5 mm, none at all once F_p/k >= s~/2 = 10 mm).",
     ]
     values = {"grip_designs": red_sum["designs_total"], "grip_done": red_sum["designs_done"]}
     if ctx.settings.study_fe:
