@@ -18,7 +18,7 @@ def reproduce_cmd(
         bool,
         typer.Option(
             "--quick",
-            help="the short version (about 2 minutes): one FE cycle, 6 elements per "
+            help="the short version: one FE cycle, 6 elements per "
             "bristle, two starting places at alpha = 0, a reduced-only design study",
         ),
     ] = False,
