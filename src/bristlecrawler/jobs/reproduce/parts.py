@@ -41,7 +41,7 @@ class Settings:
     fe_cycles: int = 5
     elements: int = 20
     vertical_phases: int = 4
-    drag_distance: float = 20.0
+    drag_distance: float = 10.0
     study_fe: bool = True
     workers: int = 2
     frames_per_cycle: int = 24
