@@ -28,6 +28,11 @@ ALLOWED = {
     "verification": BASE | {"fe", "contact", "reduced"},
     "io": BASE | {"reduced"},
     "scenario": BASE | {"fe", "contact", "reduced", "actuators", "crawler", "io"},
+    "viz": BASE | {"reduced", "crawler", "experiment", "io"},
+    # Jobs run everything below the CLI; `reproduce` runs design studies too.
+    "jobs": BASE
+    | {"fe", "contact", "reduced", "actuators", "crawler", "experiment", "io", "scenario"}
+    | {"viz", "studies"},
 }
 
 #: Layer -> third-party modules that importing it must not load.
@@ -37,6 +42,8 @@ NOT_LOADED = {
     "bristlecrawler.reduced": ("jax", "pydantic", "matplotlib", "xarray"),
     "bristlecrawler.crawler": ("pydantic", "matplotlib", "xarray", "rich", "typer"),
     "bristlecrawler.actuators": ("jax", "pydantic", "matplotlib"),
+    # The report's parts import their models when they run: listing them is free.
+    "bristlecrawler.jobs.reproduce": ("jax", "matplotlib", "xarray", "distributed", "rich"),
 }
 
 

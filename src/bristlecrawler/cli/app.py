@@ -36,7 +36,16 @@ def version_cmd() -> None:
 
 
 def _register() -> None:
-    from bristlecrawler.cli import drag, experiment, reduced, scenario, simulate, sweep, verify
+    from bristlecrawler.cli import (
+        drag,
+        experiment,
+        reduced,
+        reproduce,
+        scenario,
+        simulate,
+        sweep,
+        verify,
+    )
 
     reduced.register(app)
     experiment.register(app)
@@ -45,6 +54,7 @@ def _register() -> None:
     drag.register(app)
     scenario.register(app)
     sweep.register(app)
+    reproduce.register(app)
 
 
 _register()

@@ -1,0 +1,321 @@
+"""The table "paper versus bristlecrawler": each of the paper's numbers beside ours.
+
+Every row names the paper's value (with where the paper gives it), ours (from which part
+of the run), their difference, whether they agree within the row's tolerance, and, where
+they do not, the reason with the page of the documentation that explains it. The reasons
+quote docs/findings.md and docs/validation.md; a test keeps the quotes in sync.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+
+from bristlecrawler.jobs.reproduce.parts import Context
+
+FINDINGS = "findings.md"
+VALIDATION = "validation.md"
+PITCH = f"{FINDINGS}#the-gait-is-quantised-by-the-textures-pitch"
+WORK = f"{FINDINGS}#the-connector-work-is-59-of-the-papers-and-why"
+DRAG = f"{FINDINGS}#a-drag-test-of-the-papers-bristle"
+VERTICAL = f"{FINDINGS}#alpha-0-paper-vertical-no-systematic-advance-a-random-walk-of-whole-pitches"
+
+#: Quotes of the documentation, one per documented difference (whitespace normalised).
+WHY_ADVANCE = (
+    "The holding tip rests in a groove, so every steady cycle advances a whole number of "
+    "groove pitches"
+)
+WHY_WORK = (
+    "None of the inputs the paper leaves open moves the work by more than 13 %; the "
+    "damping's reference frequency moves it to 62.4 mJ; the paper's F_p = 0.45 N exceeds "
+    "what a tip sliding on a land can resist, which points at a contact definition the "
+    "paper does not state"
+)
+WHY_FORCE = (
+    "The paper's F_p = 0.45 N exceeds mu times the *whole* weight (0.351 N), which no tip "
+    "sliding on a land can give quasi-statically."
+)
+WHY_DRAG = (
+    "the drag test's k is the stiffness of a tip held in a groove corner, and the "
+    "whole-pitch means are what a bristle pays over many grooves, not the threshold at "
+    "which it first gives way."
+)
+WHY_VERTICAL = (
+    "a single five-cycle run is a sum of whole-pitch steps whose sign is decided by "
+    "round-off, so it meets |net| < 2 mm by chance or misses it"
+)
+#: Which page each quote is from (the test reads them there).
+QUOTED = {
+    WHY_ADVANCE: FINDINGS,
+    WHY_WORK: VALIDATION,
+    WHY_FORCE: FINDINGS,
+    WHY_DRAG: FINDINGS,
+    WHY_VERTICAL: VALIDATION,
+}
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of the table (values in ``unit``; None where not available)."""
+
+    key: str
+    quantity: str
+    unit: str
+    paper: float | None
+    paper_text: str
+    ours: float | None
+    ours_text: str
+    source: str
+    agrees: bool | None
+    reason: str
+    link: str
+
+    @property
+    def difference(self) -> float | None:
+        if self.paper is None or self.ours is None:
+            return None
+        return self.ours - self.paper
+
+    def as_dict(self) -> dict:
+        return asdict(self) | {"difference": self.difference}
+
+
+@dataclass(frozen=True)
+class RowSpec:
+    """How to fill a row: where our value comes from and when it agrees.
+
+    ``get(ctx) -> (value, text, source)`` gives ours (value None: not available, text says
+    why); ``tol`` is the largest |ours - paper| that agrees; ``why`` and ``link`` explain a
+    disagreement."""
+
+    key: str
+    quantity: str
+    unit: str
+    paper: float | None
+    paper_text: str
+    get: Callable[[Context], tuple[float | None, str, str]]
+    tol: float
+    why: str
+    link: str
+
+
+def _fe(key: str, scale: Callable[[float, int], float] = lambda v, n: v, five: bool = False):
+    """Our value from the alpha = pi/4 FE run; ``five``: only comparable over five cycles."""
+
+    def get(ctx: Context):
+        v, n = ctx.value("fe-paper", key), ctx.value("fe-paper", "cycles")
+        if v is None:
+            return None, _missing(ctx, "fe-paper"), "FE, alpha = pi/4"
+        if five and n != 5:
+            return None, f"{v:.3f} over {n} cycle(s) (--quick)", f"FE, alpha = pi/4, {n} cycles"
+        return scale(v, n), "", f"FE, alpha = pi/4, {n} cycles"
+
+    return get
+
+
+def _missing(ctx: Context, part: str, otherwise: str = "not available") -> str:
+    """Why a part's number is missing: the part failed, did not run, or gave none."""
+    r = ctx.results.get(part)
+    if r is None:
+        return f"{part} not run"
+    return f"{part} failed" if not r.ok else otherwise
+
+
+def _mean_cycle(ctx: Context):
+    v = ctx.value("fe-paper", "advance_per_cycle_mm")
+    n = ctx.value("fe-paper", "cycles")
+    if v is None:
+        return None, _missing(ctx, "fe-paper"), "FE, alpha = pi/4"
+    return sum(v) / len(v), "", f"FE, alpha = pi/4, mean of {n} cycle(s)"
+
+
+def _calibrated(key: str):
+    def get(ctx: Context):
+        cal = ctx.value("reduced", "fe_calibration")
+        if not cal or key not in cal:
+            return None, "no FE calibration", "reduced model calibrated on our FE run"
+        return cal[key], "", f"calibrated on our FE run ({cal['cycles']} cycles)"
+
+    return get
+
+
+def _drag(key: str):
+    def get(ctx: Context):
+        v = ctx.value("drag", key)
+        if v is None:
+            return None, _missing(ctx, "drag", "gave none"), "drag test of the FE bristle"
+        return v, "", "drag test of the FE bristle"
+
+    return get
+
+
+def _recording(ctx: Context):
+    v = ctx.value("experiment", "fp_over_k_mm")
+    src = ctx.value("experiment", "source")
+    if v is None:
+        return None, "no estimate", "recording"
+    return v, "", f"{'synthetic' if src == 'synthetic' else 'given'} recording, fitted"
+
+
+def _recording_advance(ctx: Context):
+    v, n = ctx.value("experiment", "net_advance_mm"), ctx.value("experiment", "cycles")
+    if v is None:
+        return None, "no analysis", "recording"
+    if n != 5:
+        return None, f"{v:.2f} over {n} cycles", "recording"
+    return v, "", "recording, five cycles"
+
+
+def _vertical(ctx: Context):
+    mean = ctx.value("fe-vertical", "advance_per_cycle_mean_mm")
+    sem = ctx.value("fe-vertical", "advance_per_cycle_sem_mm")
+    places = ctx.value("fe-vertical", "starting_places_mm")
+    if mean is None:
+        return None, _missing(ctx, "fe-vertical"), "FE, alpha = 0"
+    text = f"{mean:+.2f} ± {sem:.2f} (standard error)" if sem is not None else ""
+    return mean, text, f"FE, alpha = 0, one cycle from {len(places)} starting places"
+
+
+ROWS: tuple[RowSpec, ...] = (
+    RowSpec(
+        "net_advance_mm",
+        "net advance over five cycles (FE)",
+        "mm",
+        82.0,
+        "82 ± 4",
+        _fe("net_advance_mm", five=True),
+        4.0,
+        WHY_ADVANCE,
+        PITCH,
+    ),
+    RowSpec(
+        "advance_per_cycle_mm",
+        "advance per cycle (FE)",
+        "mm",
+        16.4,
+        "82 / 5",
+        _mean_cycle,
+        0.8,
+        WHY_ADVANCE,
+        PITCH,
+    ),
+    RowSpec(
+        "work_mJ",
+        "work over five cycles (FE)",
+        "mJ",
+        75.0,
+        "about 75",
+        _fe("work_mJ", five=True),
+        7.5,
+        WHY_WORK,
+        WORK,
+    ),
+    RowSpec(
+        "mean_connector_force_N",
+        "mean connector force |F_c| (FE)",
+        "N",
+        0.45,
+        "0.45 (= F_p)",
+        _fe("mean_abs_connector_force_N"),
+        0.045,
+        WHY_FORCE,
+        WORK,
+    ),
+    RowSpec(
+        "fp_over_k_mm",
+        "F_p/k",
+        "mm",
+        0.95,
+        "0.95",
+        _calibrated("fp_over_k_mm"),
+        0.05,
+        WHY_ADVANCE,
+        PITCH,
+    ),
+    RowSpec("fp_N", "F_p", "N", 0.45, "0.45", _calibrated("fp_N"), 0.045, WHY_WORK, WORK),
+    RowSpec(
+        "k_N_per_mm", "k", "N/mm", 0.48, "0.48", _calibrated("k_N_per_mm"), 0.048, WHY_WORK, WORK
+    ),
+    RowSpec(
+        "fp_drag_N", "F_p (drag test)", "N", 0.45, "0.45", _drag("fp_N"), 0.045, WHY_DRAG, DRAG
+    ),
+    RowSpec(
+        "k_drag_N_per_mm",
+        "k (drag test)",
+        "N/mm",
+        0.48,
+        "0.48",
+        _drag("k_N_per_mm"),
+        0.048,
+        WHY_DRAG,
+        DRAG,
+    ),
+    RowSpec(
+        "fp_over_k_recording_mm",
+        "F_p/k (experiment analysis)",
+        "mm",
+        0.95,
+        "0.95",
+        _recording,
+        0.05,
+        "",
+        VALIDATION,
+    ),
+    RowSpec(
+        "net_advance_recording_mm",
+        "net advance over five cycles (experiment)",
+        "mm",
+        82.0,
+        "about 82 ± 1",
+        _recording_advance,
+        1.0,
+        "",
+        VALIDATION,
+    ),
+    RowSpec(
+        "advance_alpha0_mm_per_cycle",
+        "advance per cycle at alpha = 0 (FE)",
+        "mm",
+        0.0,
+        "no appreciable net advancement",
+        _vertical,
+        2.0,
+        WHY_VERTICAL,
+        VERTICAL,
+    ),
+)
+
+
+def build_table(ctx: Context, docs_href: Callable[[str], str | None]) -> list[Row]:
+    """The rows, filled from the parts' results in ``ctx``. ``docs_href(page)`` gives the
+    link to a documentation page (None: no link)."""
+    rows = []
+    for spec in ROWS:
+        ours, text, source = spec.get(ctx)
+        agrees = None
+        if ours is not None and spec.paper is not None and math.isfinite(ours):
+            agrees = abs(ours - spec.paper) <= spec.tol
+        if agrees is None:
+            reason = "not compared: " + (text or "no value")
+        elif agrees:
+            reason = f"agrees within {spec.tol:g} {spec.unit}"
+        else:
+            reason = spec.why or "see the validation page"
+        link = docs_href(spec.link) if agrees is False else None
+        rows.append(
+            Row(
+                spec.key,
+                spec.quantity,
+                spec.unit,
+                spec.paper,
+                spec.paper_text,
+                ours,
+                text,
+                source,
+                agrees,
+                reason,
+                link or "",
+            )
+        )
+    return rows

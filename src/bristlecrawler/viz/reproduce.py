@@ -1,0 +1,55 @@
+"""Figures of the reproduction report that no single command draws."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bristlecrawler.viz.reduced import _pyplot
+
+
+def plot_vertical(phases, histories, inclined=None):
+    """alpha = 0 from several starting places: Delta(s) of each one-cycle run (left) and
+    its advance against the starting place (right), beside the advance per cycle of the
+    inclined crawler (``inclined``, mm, or None)."""
+    plt = _pyplot()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10.0, 4.2))
+    colors = plt.cm.viridis(np.linspace(0.0, 0.9, max(len(histories), 1)))
+    for p, h, c in zip(phases, histories, colors, strict=True):
+        a1.plot(h.s, h.delta, color=c, lw=1.2, label=f"shift {p:g} mm")
+    a1.set_xlabel("shortening s (mm)")
+    a1.set_ylabel(r"displacement of the right end $\Delta$ (mm)")
+    a1.set_title(r"$\alpha$ = 0: one cycle from each starting place", fontsize=10)
+    a1.legend(fontsize=7, loc="best")
+    adv = np.array([h.net_advance for h in histories])
+    a2.plot(phases, adv, "o", color="k", label=r"$\alpha$ = 0, one cycle each")
+    a2.axhline(float(adv.mean()), color="k", lw=1.0, ls="--", label=r"$\alpha$ = 0, mean")
+    if inclined:
+        a2.axhline(
+            float(np.mean(inclined)),
+            color="tab:red",
+            lw=1.2,
+            label=r"$\alpha = \pi/4$, mean per cycle",
+        )
+    a2.axhline(0.0, color="0.6", lw=0.8)
+    a2.set_xlabel("shift of the texture (mm)")
+    a2.set_ylabel("advance in the cycle (mm)")
+    a2.legend(fontsize=7, loc="best")
+    for ax in (a1, a2):
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def plot_study(values, outputs, axis_label: str, title: str):
+    """Outputs of a one-axis design study: ``values`` on x, one panel per entry of
+    ``outputs`` (label -> array, NaN where a design failed)."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, len(outputs), figsize=(4.2 * len(outputs), 3.6), squeeze=False)
+    for ax, (label, y) in zip(axes[0], outputs.items(), strict=True):
+        ax.plot(values, y, "o-", color="k")
+        ax.set_xlabel(axis_label)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
