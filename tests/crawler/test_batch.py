@@ -10,8 +10,8 @@ import functools
 import numpy as np
 import pytest
 
-from bristlecrawler.crawler import run, run_batch
-from bristlecrawler.errors import InputError
+from bristlecrawler.crawler import group, run, run_batch
+from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.scenario.convert import to_spec
 from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
@@ -56,3 +56,48 @@ def test_each_design_of_a_batch_takes_the_steps_of_its_single_run(index):
     assert h.net_advance == pytest.approx(single.net_advance, abs=1e-6)
     np.testing.assert_allclose(h.t, single.t, atol=1e-12)
     np.testing.assert_allclose(h.tip_position[-1], single.tip_position[-1], atol=1e-6)
+
+
+def test_a_failing_design_is_reported_while_the_others_finish():
+    """A design whose step cannot be cut far enough (dt_min = 0.02 s) fails with its
+    single run's message; the other design, beside it and a masked padding slot (width
+    3, the program of the batch above), ends as its single run does."""
+    bad = design(45.0, 0.65)
+    bad = dataclasses.replace(bad, solver=dataclasses.replace(bad.solver, dt_min=0.02))
+    with pytest.raises(SolverError) as single:
+        run(bad)
+    b = run_batch([bad, design(*DESIGNS[1])], width=3)
+    assert b.histories[0] is None
+    assert b.errors[0] == str(single.value)
+    assert b.errors[1] is None
+    assert b.histories[1].net_advance == pytest.approx(batch().histories[1].net_advance, abs=1e-9)
+    assert b.histories[1].stats["steps"] == batch().histories[1].stats["steps"]
+
+
+def test_designs_of_different_structures_are_refused_with_the_key_that_differs():
+    other = base().replace_bristles(elements=6)
+    with pytest.raises(InputError, match=r"bristle\.elements differs: 4 vs 6"):
+        run_batch([base(), other])
+    with pytest.raises(InputError, match="bristle count differs: 2 vs 3"):
+        run_batch([base(), base().with_bristles(3)])
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: run_batch([]), "at least one design"),
+        (lambda: run_batch([base(), base()], width=1), "width 1 holds at most 1 designs, got 2"),
+        (lambda: group([base(), base()], 3), "batch size 3 is larger than the 2 designs"),
+        (lambda: group([], 2), "at least one design"),
+        (lambda: group([base()], 0), "whole number >= 1"),
+    ],
+)
+def test_bad_batches_are_refused_before_any_work(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+def test_designs_are_grouped_by_structure():
+    a, b = base(), base().replace_bristles(elements=6)
+    tilted = design(30.0, 0.3)
+    assert group([a, b, tilted, a, b], 2) == [[0, 2], [3], [1, 4]]

@@ -19,7 +19,7 @@ result::
   program -> :class:`BatchResult`.
 """
 
-from bristlecrawler.crawler.batch import BatchResult, run_batch
+from bristlecrawler.crawler.batch import BatchResult, group, run_batch
 from bristlecrawler.crawler.history import (
     STRAIN_LIMIT,
     TIP_OPEN,
@@ -78,6 +78,7 @@ __all__ = [
     "StrainPeak",
     "Stroke",
     "build",
+    "group",
     "run",
     "run_batch",
     "uniform_bristles",

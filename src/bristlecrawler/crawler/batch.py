@@ -32,7 +32,7 @@ from bristlecrawler.crawler.runner import (
     history_of,
 )
 from bristlecrawler.crawler.spec import CrawlerSpec
-from bristlecrawler.crawler.structure import check_one_structure, differences
+from bristlecrawler.crawler.structure import check_one_structure, differences, structure_key
 from bristlecrawler.errors import BristlecrawlerError, InputError
 
 
@@ -94,6 +94,23 @@ def run_batch(
     return BatchResult(tuple(histories), tuple(errors), stats)
 
 
+def group(specs: Sequence[CrawlerSpec], size: int) -> list[list[int]]:
+    """Indices of ``specs`` in batches of at most ``size`` designs of one structure (in
+    the order of their first design); :class:`InputError` for no designs or a ``size``
+    that is not a whole number in [1, number of designs]."""
+    specs = tuple(specs)
+    if not specs:
+        raise InputError("a batch needs at least one design, got none")
+    if not (isinstance(size, int) and not isinstance(size, bool) and size >= 1):
+        raise InputError(f"the batch size must be a whole number >= 1, got {size!r}")
+    if size > len(specs):
+        raise InputError(f"batch size {size} is larger than the {len(specs)} designs given")
+    by_structure: dict[str, list[int]] = {}
+    for i, spec in enumerate(specs):
+        by_structure.setdefault(structure_key(spec), []).append(i)
+    return [ix[k : k + size] for ix in by_structure.values() for k in range(0, len(ix), size)]
+
+
 def _check_input(specs, width) -> int:
     if not specs:
         raise InputError("a batch needs at least one design, got none")
@@ -101,7 +118,7 @@ def _check_input(specs, width) -> int:
         raise InputError("the designs of a batch are CrawlerSpec objects")
     if width is None:
         width = len(specs)
-    if not (isinstance(width, int) and width >= 1):
+    if not (isinstance(width, int) and not isinstance(width, bool) and width >= 1):
         raise InputError(f"the batch width must be a whole number >= 1, got {width!r}")
     if len(specs) > width:
         raise InputError(f"a batch of width {width} holds at most {width} designs, got {len(specs)}")
