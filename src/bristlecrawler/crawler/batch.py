@@ -121,7 +121,9 @@ def _check_input(specs, width) -> int:
     if not (isinstance(width, int) and not isinstance(width, bool) and width >= 1):
         raise InputError(f"the batch width must be a whole number >= 1, got {width!r}")
     if len(specs) > width:
-        raise InputError(f"a batch of width {width} holds at most {width} designs, got {len(specs)}")
+        raise InputError(
+            f"a batch of width {width} holds at most {width} designs, got {len(specs)}"
+        )
     check_one_structure(specs)
     return width
 
@@ -216,7 +218,9 @@ class _BatchStroke:
             t = np.asarray(carry.state.t)
             for j in np.flatnonzero(active):
                 ctx = ctxs[slots[j]]
-                ctx.records.extend(jax.tree.map(lambda b, j=j, r=r: b[j, r], buf) for r in range(k[j]))
+                ctx.records.extend(
+                    jax.tree.map(lambda b, j=j, r=r: b[j, r], buf) for r in range(k[j])
+                )
                 if failed[j]:
                     self._fail(slots[j], jax.tree.map(lambda x, j=j: x[j], carry))
                     active[j] = False

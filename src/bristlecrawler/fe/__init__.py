@@ -86,6 +86,6 @@ __all__ = [
     "message",
     "modes",
     "run_fixed",
-    "stack",
     "solve_static",
+    "stack",
 ]

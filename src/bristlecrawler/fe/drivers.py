@@ -75,7 +75,9 @@ def make_driver(
     @jax.jit
     def run(carry, params, t_end, dt_min, dt_max):
         args = (params, t_end, dt_min, dt_max)
-        c = jax.lax.while_loop(lambda c: cond(c, *args), lambda c: body(c, *args), start(carry, *args))
+        c = jax.lax.while_loop(
+            lambda c: cond(c, *args), lambda c: body(c, *args), start(carry, *args)
+        )
         carry, buf, k, failed, _ = c
         return carry, buf, k, failed
 
