@@ -101,3 +101,25 @@ def test_designs_are_grouped_by_structure():
     a, b = base(), base().replace_bristles(elements=6)
     tilted = design(30.0, 0.3)
     assert group([a, b, tilted, a, b], 2) == [[0, 2], [3], [1, 4]]
+
+
+def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
+    """The sweep's batch task (the same program: width 3, one structure): outputs per
+    design, a failed design a value with its message."""
+    from bristlecrawler.studies.evaluate import DesignStatus
+    from bristlecrawler.studies.execute import fe_batch_task
+
+    base_config = load_scenario("paper").model_dump(mode="json")
+    short = {k: v.strip("'") for k, v in (s.split("=") for s in SHORT)}
+    short = {k: {"true": True, "false": False}.get(v, v) for k, v in short.items()}
+    numbers = {k: float(v) for k, v in short.items() if k.startswith("actuation")}
+    short = short | numbers | {"bristle.elements": 4}
+    designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"substrate.mu": 0.3}]
+    res = fe_batch_task(base_config, [short | d for d in designs], 3)
+    np.testing.assert_array_equal(
+        res["status"], [DesignStatus.DONE, DesignStatus.FAILED, DesignStatus.DONE]
+    )
+    assert res["error"][1].startswith("SolverError: stroke near t = ")
+    for i, j in ((0, 1), (2, 2)):
+        assert res["net_advance_mm"][i] == pytest.approx(batch().histories[j].net_advance, abs=1e-9)
+        assert res["steps"][i] == batch().histories[j].stats["steps"]
