@@ -160,3 +160,44 @@ def test_a_folder_with_another_study_is_refused_and_left_as_it_was(tmp_path, run
     assert json.loads((out / "study.json").read_text()) == held
     code, _, err = run_cli(["sweep", study, "--resume"])
     assert code == 2 and "--resume needs --out" in err
+
+
+def test_batches_group_the_designs_of_one_structure(tmp_path):
+    """--batch B: one task per batch of up to B designs of one structure (here the
+    bristle count splits them), each task B designs wide."""
+    from bristlecrawler.studies.runner import batch_tasks
+
+    axes = '"bristle.count" = [2, 3]\n"bristle.alpha_deg" = [30.0, 40.0, 50.0]'
+    p = plan(_study(tmp_path, f'model = "fe"\nbase = "paper"\n[axes]\n{axes}\n'))
+    tasks = batch_tasks(p, 2)
+    assert [t.index.tolist() for t in tasks] == [[0, 1], [2], [3, 4], [5]]
+    assert {t.args[2] for t in tasks} == {2}
+
+
+@pytest.mark.parametrize(
+    ("study_text", "flag", "words"),
+    [
+        (
+            'model = "fe"\nbase = "paper"\n[axes]\n"bristle.alpha_deg" = [30.0, 40.0]\n',
+            "3",
+            "batch size 3 is larger than the 2 designs given",
+        ),
+        (
+            'model = "fe"\nbase = "paper"\n[axes]\n"bristle.alpha_deg" = [30.0, 40.0]\n',
+            "0",
+            "--batch must be a whole number >= 1",
+        ),
+        (REDUCED.format(axes="s_max = [10.0, 20.0]"), "2", "this study is of the reduced model"),
+    ],
+)
+def test_a_bad_batch_is_one_line_exit_2_and_writes_nothing(
+    tmp_path, run_cli, study_text, flag, words
+):
+    out = tmp_path / "out"
+    code, _, err = run_cli(
+        ["sweep", _study(tmp_path, study_text), "--out", str(out), "--batch", flag]
+    )
+    assert code == 2
+    assert err.startswith("error: ") and err.count("\n") == 1
+    assert words in err
+    assert not out.exists()

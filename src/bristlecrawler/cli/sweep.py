@@ -41,6 +41,14 @@ def sweep_cmd(
             "--resume", help="complete the study already in --out, skipping its done designs"
         ),
     ] = False,
+    batch: Annotated[
+        int | None,
+        typer.Option(
+            "--batch",
+            help="FE designs of one structure per compiled batch (vmapped) "
+            "[default: none on a CPU, up to 64 on a GPU]",
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the figures")] = False,
     progress: Annotated[
@@ -67,6 +75,7 @@ def sweep_cmd(
         resume=resume,
         figures=not no_figures,
         progress=progress,
+        batch=batch,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
     )
     summary = run_sweep(study, options)

@@ -14,9 +14,12 @@ result::
 * :func:`build` -> :class:`CrawlerModel` (the FE model and its node bookkeeping);
 * :func:`run` with stages :class:`Settle`, :class:`ModalDamping`, :class:`Stroke` (the
   paper's analysis steps, the default; :class:`Hold` and your own stages after them)
-  and a progress callback -> :class:`CrawlerHistory` (``.summary()``, ``.to_dataset()``).
+  and a progress callback -> :class:`CrawlerHistory` (``.summary()``, ``.to_dataset()``);
+* :func:`run_batch`: designs of one structure (see :mod:`.structure`) in one compiled
+  program -> :class:`BatchResult`.
 """
 
+from bristlecrawler.crawler.batch import BatchResult, group, run_batch
 from bristlecrawler.crawler.history import (
     STRAIN_LIMIT,
     TIP_OPEN,
@@ -56,6 +59,7 @@ __all__ = [
     "TIP_SLIP",
     "TIP_STICK",
     "Actuation",
+    "BatchResult",
     "Body",
     "Bristle",
     "Contact",
@@ -74,6 +78,8 @@ __all__ = [
     "StrainPeak",
     "Stroke",
     "build",
+    "group",
     "run",
+    "run_batch",
     "uniform_bristles",
 ]

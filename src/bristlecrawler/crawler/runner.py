@@ -126,19 +126,27 @@ class RunContext:
                 Progress(self.stage, t, self.t_end, max(len(self.records) - 1, 0), self.iterations)
             )
 
-    def driver(self, check: bool):
-        """The adaptive driver of this crawler (cached per structure and options)."""
+    def driver_args(self, check: bool) -> tuple:
+        """The static arguments of the adaptive drivers for this crawler (topology, terms,
+        integrator, observer, capacity, step control, energy check): equal for designs
+        that share one compiled program."""
         from bristlecrawler import fe
 
         sv = self.spec.solver
         ig = sv.integrator(self.spec.contact.max_penetration)
         tols = (sv.energy_tol, sv.energy_loss_tol)
         energy = EnergyCheck(*tols) if check and any(map(math.isfinite, tols)) else None
-        make = fe.make_host_driver if self.host else fe.make_driver
         m = self.crawler.model
         control = fe.StepControl(sv.grow, sv.easy_iterations)
         obs = self.crawler.observer()
-        return make(m.topology, m.terms, ig, obs, self.options.capacity, control, energy)
+        return (m.topology, m.terms, ig, obs, self.options.capacity, control, energy)
+
+    def driver(self, check: bool):
+        """The adaptive driver of this crawler (cached per structure and options)."""
+        from bristlecrawler import fe
+
+        make = fe.make_host_driver if self.host else fe.make_driver
+        return make(*self.driver_args(check))
 
     def advance(self, t_stop: float, dt_max: float, where: str, check: bool) -> None:
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""

@@ -15,8 +15,10 @@ from bristlecrawler.fe.control import StepControl
 from bristlecrawler.fe.drivers import (
     DriverCarry,
     driver_start,
+    make_batch_driver,
     make_driver,
     make_host_driver,
+    stack,
 )
 from bristlecrawler.fe.dynamics import (
     DynResult,
@@ -77,6 +79,7 @@ __all__ = [
     "energy",
     "initial_state",
     "integrate",
+    "make_batch_driver",
     "make_driver",
     "make_host_driver",
     "make_step",
@@ -84,4 +87,5 @@ __all__ = [
     "modes",
     "run_fixed",
     "solve_static",
+    "stack",
 ]

@@ -5,7 +5,8 @@ easy steps, stay within [dt_min, dt_max]) and record an observer after every acc
 step (and, given a ``check``, reject a converged step whose error estimate the check
 refuses): :func:`make_driver` as one compiled XLA loop (the form for a GPU and for ``vmap``
 batches), :func:`make_host_driver` as a host loop around the compiled step (the smaller
-program to compile on a CPU; as fast per run there). :func:`driver_start` makes the first
+program to compile on a CPU; as fast per run there). :func:`make_batch_driver` is the
+compiled loop vmapped over designs of one structure. :func:`driver_start` makes the first
 carry.
 """
 
@@ -69,58 +70,129 @@ def make_driver(
     and the synchronisation of two programs per step, and it is the form that runs on a GPU.
     """
     step = make_step(topo, terms, integrator)
+    start, cond, body = _loop(step, observe, capacity, control, check)
 
     @jax.jit
     def run(carry, params, t_end, dt_min, dt_max):
+        args = (params, t_end, dt_min, dt_max)
+        c = jax.lax.while_loop(
+            lambda c: cond(c, *args), lambda c: body(c, *args), start(carry, *args)
+        )
+        carry, buf, k, failed, _ = c
+        return carry, buf, k, failed
+
+    return run
+
+
+def _loop(step, observe, capacity: int, control: StepControl, check):
+    """The compiled driver's loop for one design: ``start(carry, *args)`` makes the loop
+    state (carry, buffer, recorded rows, failed, last record), ``cond(c, *args)`` and
+    ``body(c, *args)`` with ``args = (params, t_end, dt_min, dt_max)``. Shared by
+    :func:`make_driver` and, vmapped, by :func:`make_batch_driver`."""
+
+    def start(carry, params, t_end, dt_min, dt_max):
         proto = observe(carry.state, params)
         buf = jax.tree.map(
             lambda x: jnp.zeros((capacity, *jnp.shape(x)), jnp.result_type(x)), proto
         )
+        return carry, buf, jnp.asarray(0), jnp.asarray(False), proto
+
+    def cond(c, params, t_end, dt_min, dt_max):
+        carry, _, k, failed, _ = c
         eps = 1e-12 * jnp.maximum(1.0, jnp.abs(t_end))
+        return (carry.state.t < t_end - eps) & (k < capacity) & ~failed
 
-        def cond(c):
-            carry, _, k, failed, _ = c
-            return (carry.state.t < t_end - eps) & (k < capacity) & ~failed
-
-        def body(c):
-            carry, buf, k, _, last = c
-            h = jnp.minimum(carry.dt, t_end - carry.state.t)
-            new, info = step(carry.state, params, h)
-            rec = observe(new, params)
-            easy = info.iterations <= control.easy_iterations
-            if check is not None:
-                ratio = check(last, rec)
-                refused = (info.status == SUCCESS) & ~(ratio <= 1.0)
-                info = dataclasses.replace(info, status=jnp.where(refused, STEP_ERROR, info.status))
-                easy = easy & (ratio * control.grow**3 <= 1.0)
-            good = info.status == SUCCESS
-            last = jax.tree.map(lambda r, o: jnp.where(good, r, o), rec, last)
-            buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
-            dt = control.next_dt(carry.dt, h, good, easy, dt_max)
-            fatal = is_fatal(info.status)  # a smaller step cannot cure it
-            failed = ~good & ((0.5 * h < dt_min) | fatal)
-            cause = info.status
-            too_small = failed & ~fatal
-            info = dataclasses.replace(
-                info, status=jnp.where(too_small, STEP_TOO_SMALL, info.status)
-            )
-            nxt = DriverCarry(
-                state=jax.tree.map(lambda n, o: jnp.where(good, n, o), new, carry.state),
-                dt=dt,
-                accepted=carry.accepted + good,
-                rejected=carry.rejected + ~good,
-                iterations=carry.iterations + info.iterations,
-                info=info,
-                cause=cause,
-            )
-            return nxt, buf, k + good, failed, last
-
-        carry, buf, k, failed, _ = jax.lax.while_loop(
-            cond, body, (carry, buf, jnp.asarray(0), jnp.asarray(False), proto)
+    def body(c, params, t_end, dt_min, dt_max):
+        carry, buf, k, _, last = c
+        # A design of a vmapped batch that is done still runs this body (its result is
+        # thrown away): a step of its own size keeps its Newton iterations few and finite,
+        # where the remaining t_end - t (zero or below) would not.
+        active = cond(c, params, t_end, dt_min, dt_max)
+        h = jnp.where(active, jnp.minimum(carry.dt, t_end - carry.state.t), carry.dt)
+        new, info = step(carry.state, params, h)
+        rec = observe(new, params)
+        easy = info.iterations <= control.easy_iterations
+        if check is not None:
+            ratio = check(last, rec)
+            refused = (info.status == SUCCESS) & ~(ratio <= 1.0)
+            info = dataclasses.replace(info, status=jnp.where(refused, STEP_ERROR, info.status))
+            easy = easy & (ratio * control.grow**3 <= 1.0)
+        good = info.status == SUCCESS
+        last = jax.tree.map(lambda r, o: jnp.where(good, r, o), rec, last)
+        buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
+        dt = control.next_dt(carry.dt, h, good, easy, dt_max)
+        fatal = is_fatal(info.status)  # a smaller step cannot cure it
+        failed = ~good & ((0.5 * h < dt_min) | fatal)
+        cause = info.status
+        too_small = failed & ~fatal
+        info = dataclasses.replace(info, status=jnp.where(too_small, STEP_TOO_SMALL, info.status))
+        nxt = DriverCarry(
+            state=jax.tree.map(lambda n, o: jnp.where(good, n, o), new, carry.state),
+            dt=dt,
+            accepted=carry.accepted + good,
+            rejected=carry.rejected + ~good,
+            iterations=carry.iterations + info.iterations,
+            info=info,
+            cause=cause,
         )
-        return carry, buf, k, failed
+        return nxt, buf, k + good, failed, last
+
+    return start, cond, body
+
+
+@functools.lru_cache(maxsize=16)
+def make_batch_driver(
+    topo,
+    terms,
+    integrator: Integrator | None,
+    observe,
+    capacity: int,
+    control: StepControl = DEFAULT_CONTROL,
+    check=None,
+):
+    """:func:`make_driver` for a batch of designs of one structure, in one compiled loop:
+    ``run(carry, params, t_end, dt_min, dt_max)`` with every argument stacked on a leading
+    design axis (from :func:`stack`). Each design keeps its own step size, rejections,
+    Newton iterations and records; one that is done or has failed is masked (its state
+    does not move) while the others step, and one design's failure does not stop the
+    others. Returns (carry, buffer, n_recorded, failed, batch_iterations), all per design
+    but ``batch_iterations``: the Newton iterations the batched program ran (each batched
+    step costs its slowest design's iterations), for the utilisation
+    ``sum(carry.iterations) / (B * batch_iterations)``.
+    """
+    step = make_step(topo, terms, integrator)
+    start, cond, body = _loop(step, observe, capacity, control, check)
+    vcond, vbody, vstart = (jax.vmap(f) for f in (cond, body, start))
+
+    @jax.jit
+    def run(carry, params, t_end, dt_min, dt_max):
+        args = (params, t_end, dt_min, dt_max)
+
+        def bbody(bc):
+            c, n = bc
+            active = vcond(c, *args)
+            new = vbody(c, *args)
+            keep = jax.tree.map(lambda x, o: _where(active, x, o), new, c)
+            # Newton's loop, vmapped, runs until the slowest design converges (done designs
+            # included: they step too, and their step is thrown away).
+            return keep, n + jnp.max(new[0].info.iterations)
+
+        c, n = jax.lax.while_loop(
+            lambda bc: jnp.any(vcond(bc[0], *args)), bbody, (vstart(carry, *args), jnp.asarray(0))
+        )
+        carry, buf, k, failed, _ = c
+        return carry, buf, k, failed, n
 
     return run
+
+
+def _where(mask, new, old):
+    return jnp.where(mask.reshape(mask.shape + (1,) * (jnp.ndim(new) - 1)), new, old)
+
+
+def stack(trees):
+    """Pytrees of equal structure stacked on a new leading (design) axis."""
+    return jax.tree.map(lambda *x: jnp.stack([jnp.asarray(v) for v in x]), *trees)
 
 
 @functools.lru_cache(maxsize=32)

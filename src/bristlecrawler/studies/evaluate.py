@@ -57,11 +57,31 @@ def evaluate_fe(scenario: dict[str, Any]) -> dict[str, Any]:
     from bristlecrawler.scenario.load import scenario_from_dict
 
     sc = scenario_from_dict(scenario, "design")
-    summary = run(to_spec(sc)).summary()
+    return _fe_outputs(run(to_spec(sc)), sc.actuation.cycles)
+
+
+def _fe_outputs(history, cycles) -> dict[str, float]:
+    summary = history.summary()
     per_cycle = summary["advance_per_cycle_mm"]
     out = {k: summary[k] for k in OUTPUTS if k in summary}
     out["last_cycle_advance_mm"] = per_cycle[-1] if per_cycle else np.nan
-    return {k: float(v) for k, v in _derived(out, sc.actuation.cycles).items()}
+    return {k: float(v) for k, v in _derived(out, cycles).items()}
+
+
+def evaluate_fe_batch(scenarios: list[dict[str, Any]], width: int) -> list[dict[str, Any] | str]:
+    """FE designs of one structure in one compiled program (:func:`crawler.run_batch`,
+    ``width`` designs wide): each design's outputs, or its one-line error."""
+    from bristlecrawler.crawler import run_batch
+    from bristlecrawler.errors import SolverError
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import scenario_from_dict
+
+    scs = [scenario_from_dict(s, "design") for s in scenarios]
+    result = run_batch([to_spec(sc) for sc in scs], width=width)
+    return [
+        _fe_outputs(h, sc.actuation.cycles) if h is not None else _one_line(SolverError(err))
+        for h, err, sc in zip(result.histories, result.errors, scs, strict=True)
+    ]
 
 
 def _closed_form(s, fp, k, n) -> dict[str, np.ndarray]:

@@ -48,6 +48,35 @@ def fe_task(base: dict[str, Any], overrides: list[dict[str, Any]]) -> dict[str, 
     return res | {"status": status, "error": np.asarray(error, dtype=str)}
 
 
+def fe_batch_task(
+    base: dict[str, Any], overrides: list[dict[str, Any]], width: int
+) -> dict[str, np.ndarray]:
+    """Run FE designs of one structure as one batch (:func:`crawler.run_batch`) on a
+    worker; the batch's wall time is shared evenly by its designs."""
+    from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.studies.designs import with_overrides
+    from bristlecrawler.studies.evaluate import evaluate_fe_batch
+
+    enable_compilation_cache()
+    n = len(overrides)
+    res = {k: np.full(n, np.nan) for k in OUTPUTS}
+    status = np.full(n, int(DesignStatus.DONE), np.int8)
+    error = [""] * n
+    t0 = time.perf_counter()
+    try:
+        outcomes = evaluate_fe_batch([with_overrides(base, ov) for ov in overrides], width)
+    except Exception as exc:  # the batch could not start: every design failed with it
+        outcomes = [_one_line(exc)] * n
+    for i, out in enumerate(outcomes):
+        if isinstance(out, str):
+            status[i], error[i] = DesignStatus.FAILED, out
+        else:
+            for k, v in out.items():
+                res[k][i] = v
+    res["wall_time_s"][:] = (time.perf_counter() - t0) / n
+    return res | {"status": status, "error": np.asarray(error, dtype=str)}
+
+
 def reduced_task(
     base: dict[str, Any], values: dict[str, np.ndarray], solver: str
 ) -> dict[str, np.ndarray]:

@@ -28,7 +28,9 @@ from bristlecrawler.studies.validate import validate_designs
 
 @dataclass(frozen=True)
 class SweepOptions:
-    """out: study folder [default runs/<stamp>-sweep-<name>]; scheduler: address of a
+    """out: study folder [default runs/<stamp>-sweep-<name>]; batch: FE designs of one
+    structure per compiled batch (:func:`crawler.run_batch`) [default: none on a CPU, up to
+    64 where JAX's backend is a GPU]; scheduler: address of a
     running Dask scheduler [default: a LocalCluster]; workers: LocalCluster workers
     [default: one per core]; resume: complete the study already in ``out``; figures:
     draw them; progress: bar on stderr [default: on a terminal]; command: for meta.json;
@@ -42,12 +44,15 @@ class SweepOptions:
     progress: bool | None = None
     command: str = ""
     connect_timeout_s: float = execute.CONNECT_TIMEOUT_S
+    batch: int | None = None
 
     def __post_init__(self) -> None:
         if self.workers is not None and self.workers < 1:
             raise InputError(f"--workers must be >= 1, got {self.workers}")
         if self.workers is not None and self.scheduler is not None:
             raise InputError("--workers sizes the local cluster; not with --scheduler")
+        if self.batch is not None and not (isinstance(self.batch, int) and self.batch >= 1):
+            raise InputError(f"--batch must be a whole number >= 1, got {self.batch!r}")
         if self.resume and self.out is None:
             raise InputError("--resume needs --out (the folder of the study to complete)")
 
@@ -91,6 +96,49 @@ def tasks_of(p: Plan) -> list[execute.Task]:
     return out
 
 
+def _batch_size(p: Plan, batch: int | None) -> int | None:
+    """The batch size: as asked (FE studies only), else batches of up to 64 designs where
+    JAX computes on a GPU (one compiled program keeps it busy), else none."""
+    if p.base.model != "fe":
+        if batch is not None:
+            raise InputError("--batch runs FE designs together; this study is of the reduced model")
+        return None
+    if batch is None:
+        import jax
+
+        return min(64, p.designs.n) if jax.default_backend() == "gpu" else None
+    return batch
+
+
+def batch_tasks(p: Plan, size: int, resuming: Path | None = None) -> list[execute.Task]:
+    """One task per batch of up to ``size`` designs of one structure
+    (:func:`crawler.group`; InputError for a size above the number of designs); resuming
+    a study folder, only its designs not done or failed, in tasks numbered after its own."""
+    from bristlecrawler.crawler import group
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import scenario_from_dict
+    from bristlecrawler.studies.designs import with_overrides
+
+    overrides = [p.designs.overrides(i) for i in range(p.designs.n)]
+    specs = [
+        to_spec(scenario_from_dict(with_overrides(p.base.config, ov), "design")) for ov in overrides
+    ]
+    groups = group(specs, size)
+    skip, first = set(), 0
+    if resuming is not None:
+        for task, part in store.read_parts(resuming):
+            kept = part["status"] != DesignStatus.LOST
+            skip |= {int(i) for i in part["index"][kept]}
+            first = max(first, task + 1)
+    out = []
+    for g in groups:
+        index = np.array([i for i in g if i not in skip], dtype=np.int64)
+        if index.size:
+            args = (p.base.config, [overrides[i] for i in index], size)
+            out.append(execute.Task(first + len(out), index, execute.fe_batch_task, args))
+    return out
+
+
 def _default_out(name: str) -> Path:
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
     path, i = Path("runs") / f"{stamp}-sweep-{name}", 1
@@ -110,8 +158,12 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
     p = plan(study_ref)
     out = opt.out if opt.out is not None else _default_out(p.study.name)
     resuming = store.check_folder(out, p.resolved, opt.resume)
-    finished = store.finished_tasks(out) if resuming else set()
-    todo = [t for t in tasks_of(p) if t.number not in finished]
+    batch = _batch_size(p, opt.batch)
+    if batch is None:
+        finished = store.finished_tasks(out) if resuming else set()
+        todo = [t for t in tasks_of(p) if t.number not in finished]
+    else:
+        todo = batch_tasks(p, batch, out if resuming else None)
     client = cluster = None
     if todo:
         client, cluster = execute.connect(opt.scheduler, opt.workers, opt.connect_timeout_s)

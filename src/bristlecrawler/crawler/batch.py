@@ -1,0 +1,263 @@
+"""Designs of one structure run side by side in one compiled program.
+
+:func:`run_batch` takes designs that differ only in values (see :mod:`.structure`): each
+design settles and gets its damping on its own (the short host-side stages
+:class:`Settle` and :class:`ModalDamping`), then the stroke of every design, the costly
+part, is stepped by one compiled loop vmapped over the designs
+(:func:`fe.make_batch_driver`). Every design keeps its own step size, rejections, Newton
+iterations and records, and the same chunks of simulated time as :func:`run` takes, so a
+design of a batch takes the steps of its single run. A design that fails is reported with
+the message its single run would raise; the others go on.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from bristlecrawler.crawler.history import CrawlerHistory
+from bristlecrawler.crawler.model import build
+from bristlecrawler.crawler.runner import (
+    ModalDamping,
+    Progress,
+    RunContext,
+    RunOptions,
+    Settle,
+    Stroke,
+    history_of,
+)
+from bristlecrawler.crawler.spec import CrawlerSpec
+from bristlecrawler.crawler.structure import check_one_structure, differences, structure_key
+from bristlecrawler.errors import BristlecrawlerError, InputError
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """The outcome of :func:`run_batch`, one entry per design in the order given.
+
+    Attributes:
+        histories: each design's :class:`CrawlerHistory`, or None where it failed.
+        errors: None, or the one-line reason a design failed.
+        stats: of the batch: ``width`` (designs in the compiled program), ``compile_time_s``
+            (the batched program's compilation or cache load in this call; 0 when this
+            process had it already), ``stroke_wall_time_s``, ``wall_time_s``,
+            ``batch_iterations`` (Newton iterations the batched program ran),
+            ``design_iterations`` (the designs' own stroke iterations, summed) and
+            ``utilisation`` = design_iterations / (width x batch_iterations).
+    """
+
+    histories: tuple[CrawlerHistory | None, ...]
+    errors: tuple[str | None, ...]
+    stats: dict = field(default_factory=dict)
+
+
+def run_batch(
+    specs: Sequence[CrawlerSpec],
+    *,
+    width: int | None = None,
+    options: RunOptions | None = None,
+    on_progress: Callable[[Progress], None] | None = None,
+) -> BatchResult:
+    """Run designs of one structure as one batch (gravity step, modal damping, stroke).
+
+    ``width``: designs in the compiled program (default: as many as given); a batch of
+    fewer designs is padded with masked copies, so that the batches of a sweep share one
+    program. Bad input (no designs, designs of different structures, more designs than
+    ``width``) is an :class:`InputError` before any work; a design that fails to settle or
+    to finish its stroke gets its error in :attr:`BatchResult.errors`.
+    """
+    wall0 = time.perf_counter()
+    specs = tuple(specs)
+    width = _check_input(specs, width)
+    options = options or RunOptions()
+    ctxs = [RunContext(build(s), options, None, t_end=0.0) for s in specs]
+    _check_programs(ctxs)
+    errors: list[str | None] = [None] * len(specs)
+    for i, ctx in enumerate(ctxs):
+        try:
+            Settle()(ctx)
+            ModalDamping()(ctx)
+        except BristlecrawlerError as exc:
+            errors[i] = f"{exc}"
+    stats = _BatchStroke(ctxs, errors, width, on_progress).run()
+    histories = []
+    for ctx, err in zip(ctxs, errors, strict=True):
+        if err is None:
+            ctx.stats["wall_time_s"] = time.perf_counter() - wall0
+        histories.append(None if err is not None else history_of(ctx))
+    stats["wall_time_s"] = time.perf_counter() - wall0
+    return BatchResult(tuple(histories), tuple(errors), stats)
+
+
+def group(specs: Sequence[CrawlerSpec], size: int) -> list[list[int]]:
+    """Indices of ``specs`` in batches of at most ``size`` designs of one structure (in
+    the order of their first design); :class:`InputError` for no designs or a ``size``
+    that is not a whole number in [1, number of designs]."""
+    specs = tuple(specs)
+    if not specs:
+        raise InputError("a batch needs at least one design, got none")
+    if not (isinstance(size, int) and not isinstance(size, bool) and size >= 1):
+        raise InputError(f"the batch size must be a whole number >= 1, got {size!r}")
+    if size > len(specs):
+        raise InputError(f"batch size {size} is larger than the {len(specs)} designs given")
+    by_structure: dict[str, list[int]] = {}
+    for i, spec in enumerate(specs):
+        by_structure.setdefault(structure_key(spec), []).append(i)
+    return [ix[k : k + size] for ix in by_structure.values() for k in range(0, len(ix), size)]
+
+
+def _check_input(specs, width) -> int:
+    if not specs:
+        raise InputError("a batch needs at least one design, got none")
+    if not all(isinstance(s, CrawlerSpec) for s in specs):
+        raise InputError("the designs of a batch are CrawlerSpec objects")
+    if width is None:
+        width = len(specs)
+    if not (isinstance(width, int) and not isinstance(width, bool) and width >= 1):
+        raise InputError(f"the batch width must be a whole number >= 1, got {width!r}")
+    if len(specs) > width:
+        raise InputError(
+            f"a batch of width {width} holds at most {width} designs, got {len(specs)}"
+        )
+    check_one_structure(specs)
+    return width
+
+
+def _check_programs(ctxs) -> None:
+    """The built programs must match too (a structure the spec keys do not show, such as
+    the corner contact's window, which follows the substrate's period)."""
+    first = ctxs[0]
+    args = first.driver_args(True)
+    tree = jax.tree.structure(first.crawler.model.params)
+    shapes = [np.shape(x) for x in jax.tree.leaves(first.crawler.model.params)]
+    for i, ctx in enumerate(ctxs[1:], start=1):
+        params = ctx.crawler.model.params
+        same = (
+            ctx.driver_args(True) == args
+            and jax.tree.structure(params) == tree
+            and [np.shape(x) for x in jax.tree.leaves(params)] == shapes
+        )
+        if not same:
+            keys = ", ".join(k for k, _, _ in differences(first.spec, ctx.spec)) or "none"
+            raise InputError(
+                "the designs of a batch must share one structure: designs 0 and "
+                f"{i} compile to different programs (keys that differ: {keys})"
+            )
+
+
+#: Batched programs compiled in this process, by static arguments and argument types.
+_COMPILED: dict = {}
+
+
+def _strong(tree):
+    """Arrays of fixed (not weak) types, the signature of the compiled program."""
+    return jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), tree)
+
+
+def _compiled(run, args):
+    """(The batched program compiled for ``args``, seconds spent compiling it now)."""
+    key = (run, jax.tree.structure(args), tuple((x.shape, x.dtype) for x in jax.tree.leaves(args)))
+    if key in _COMPILED:
+        return _COMPILED[key], 0.0
+    t0 = time.perf_counter()
+    _COMPILED[key] = run.lower(*args).compile()
+    return _COMPILED[key], time.perf_counter() - t0
+
+
+class _BatchStroke:
+    """The :class:`Stroke` stage of every design that settled, in one batched program.
+
+    Each design advances in the chunks of simulated time its single run takes (the chunk
+    ends cap the step, so other chunks would give other steps); a design that reaches
+    its chunk's end waits (masked) for the others, then starts its next chunk."""
+
+    def __init__(self, ctxs, errors, width, on_progress):
+        self.ctxs, self.errors, self.width = ctxs, errors, width
+        self.on_progress = on_progress
+        self.live = [i for i, e in enumerate(errors) if e is None]
+
+    def run(self) -> dict:
+        stats = {"width": self.width, "compile_time_s": 0.0, "stroke_wall_time_s": 0.0}
+        stats |= {"batch_iterations": 0, "design_iterations": 0, "utilisation": np.nan}
+        if not self.live:
+            return stats
+        from bristlecrawler import fe
+
+        ctxs, live = self.ctxs, self.live
+        # Padding slots repeat a live design and stay masked (their chunk is empty).
+        slots = live + [live[-1]] * (self.width - len(live))
+        real = np.array([j < len(live) for j in range(self.width)])
+        for i in live:
+            ctx = ctxs[i]
+            ctx.records.append(jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params)))
+        run = fe.make_batch_driver(*ctxs[live[0]].driver_args(True))
+        carry = fe.stack([fe.driver_start(ctxs[i].state, ctxs[i].dt) for i in slots])
+        params = fe.stack([ctxs[i].model.params for i in slots])
+        sv = [ctxs[i].spec.solver for i in slots]
+        dt_min, dt_max = (np.array([getattr(s, k) for s in sv]) for k in ("dt_min", "dt_max"))
+        t = np.array([float(ctxs[i].state.t) for i in slots])
+        t_end = t + np.array([Stroke().span(ctxs[i]) for i in slots])
+        chunk = np.array([max(ctxs[i].spec.actuation.period / 20.0, 0.5) for i in slots])
+        t_stop = np.where(real, np.minimum(t + chunk, t_end), t)
+        it0 = np.array([ctxs[i].iterations for i in slots])
+        rej0 = np.array([ctxs[i].rejected for i in slots])
+        active = real.copy()
+        wall0, n_batch = time.perf_counter(), 0
+        while active.any():
+            args = _strong((carry, params, t_stop, dt_min, dt_max))
+            program, seconds = _compiled(run, args)
+            stats["compile_time_s"] += seconds
+            carry, buf, k, failed, n = program(*args)
+            buf, k, failed, n = jax.device_get((buf, k, failed, n))
+            n_batch += int(n)
+            t = np.asarray(carry.state.t)
+            for j in np.flatnonzero(active):
+                ctx = ctxs[slots[j]]
+                ctx.records.extend(
+                    jax.tree.map(lambda b, j=j, r=r: b[j, r], buf) for r in range(k[j])
+                )
+                if failed[j]:
+                    self._fail(slots[j], jax.tree.map(lambda x, j=j: x[j], carry))
+                    active[j] = False
+                elif t[j] >= t_stop[j] - 1e-9:
+                    if t_stop[j] >= t_end[j] - 1e-9:
+                        active[j] = False
+                    else:
+                        t_stop[j] = min(t[j] + chunk[j], t_end[j])
+            t_stop = np.where(active, t_stop, t)
+            self._report(t, t_end, active)
+        stroke_wall = time.perf_counter() - wall0
+        its, rej = np.asarray(carry.iterations), np.asarray(carry.rejected)
+        for j in np.flatnonzero(real):
+            ctx = ctxs[slots[j]]
+            ctx.state = jax.tree.map(lambda x, j=j: x[j], carry.state)
+            ctx.dt = float(carry.dt[j])
+            ctx.iterations = int(it0[j] + its[j])
+            ctx.rejected = int(rej0[j] + rej[j])
+            ctx.stats["stroke_wall_time_s"] = stroke_wall
+            ctx.stats["stroke_newton_iterations"] = int(its[j])
+            ctx.stats["batch_width"] = self.width
+        own = int(its[real].sum())
+        stats |= {"stroke_wall_time_s": stroke_wall, "batch_iterations": n_batch}
+        stats |= {"design_iterations": own, "utilisation": own / max(self.width * n_batch, 1)}
+        for i in live:
+            ctxs[i].stats["compile_time_s"] = stats["compile_time_s"]
+        return stats
+
+    def _fail(self, i, carry) -> None:
+        ctx = self.ctxs[i]
+        ctx.state = carry.state
+        self.errors[i] = f"stroke near t = {float(carry.state.t):.4g} s: " + ctx._why(carry)
+
+    def _report(self, t, t_end, active) -> None:
+        if self.on_progress is None:
+            return
+        done = sum(len(self.ctxs[i].records) - 1 for i in self.live)
+        its = sum(self.ctxs[i].iterations for i in self.live)
+        now = float(t[active].min()) if active.any() else float(t_end.max())
+        self.on_progress(Progress("stroke", now, float(t_end.max()), done, its))

@@ -1,0 +1,105 @@
+"""Which fields of a :class:`CrawlerSpec` shape the compiled programs (structure) and which
+are values in their parameters.
+
+Designs that differ only in values run in one compiled program, side by side
+(:func:`crawler.run_batch`): the bristles' inclination (their reference coordinates),
+sections and materials, the friction coefficient, the body's mass, the substrate's
+dimensions where the corner contact is off, the damping ratio, the step bounds. The
+structure is the number of bristles and their elements, the contact options, the
+actuation (its stroke functions are compiled in), the solver's settings and the
+substrate's kind.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from bristlecrawler.crawler.spec import CrawlerSpec
+from bristlecrawler.errors import InputError
+
+#: Spec keys that are part of the compiled programs; a prefix ending in "." takes a group.
+STRUCTURE_KEYS = (
+    "bristle count",
+    "bristle.elements",
+    "bristle.shear",
+    "substrate kind",
+    "contact.nodes",
+    "contact.surface",
+    "contact.discs",
+    "contact.corners",
+    "contact.active_points",
+    "contact.max_penetration",
+    "damping.kind",
+    "actuation.",
+    "solver.hht_alpha",
+    "solver.tolerance",
+    "solver.max_iterations",
+    "solver.stall_iterations",
+    "solver.freeze_iterations",
+    "solver.line_search",
+    "solver.predictor",
+    "solver.energy_tol",
+    "solver.energy_loss_tol",
+    "solver.max_correction",
+    "solver.grow",
+    "solver.easy_iterations",
+)
+
+
+def _plain(v):
+    if hasattr(v, "shape"):
+        return np.asarray(v).tolist()
+    if isinstance(v, tuple | list):
+        return tuple(_plain(x) for x in v)
+    return v
+
+
+def spec_fields(spec: CrawlerSpec) -> dict[str, object]:
+    """The spec as flat ``group.field`` keys; a bristle field is one value when every
+    bristle has it, else the tuple of the bristles' values."""
+    out: dict[str, object] = {
+        "bristle count": len(spec.bristles),
+        "substrate kind": type(spec.substrate).__name__,
+        "gravity": spec.gravity,
+    }
+    for group in ("body", "contact", "damping", "actuation", "solver"):
+        obj = getattr(spec, group)
+        for f in dataclasses.fields(obj):
+            out[f"{group}.{f.name}"] = _plain(getattr(obj, f.name))
+    for f in dataclasses.fields(spec.bristles[0]):
+        values = tuple(_plain(getattr(b, f.name)) for b in spec.bristles)
+        out[f"bristle.{f.name}"] = values[0] if len(set(map(repr, values))) == 1 else values
+    if dataclasses.is_dataclass(spec.substrate):
+        for f in dataclasses.fields(spec.substrate):
+            out[f"substrate.{f.name}"] = _plain(getattr(spec.substrate, f.name))
+    return out
+
+
+def _structural(key: str) -> bool:
+    return any(key == k or (k.endswith(".") and key.startswith(k)) for k in STRUCTURE_KEYS)
+
+
+def differences(a: CrawlerSpec, b: CrawlerSpec) -> list[tuple[str, object, object]]:
+    """(key, value in a, value in b) for every key where two specs differ."""
+    fa, fb = spec_fields(a), spec_fields(b)
+    return [(k, fa[k], fb.get(k)) for k in fa if repr(fa[k]) != repr(fb.get(k))]
+
+
+def check_one_structure(specs) -> None:
+    """Refuse (:class:`InputError`, one line naming the key) designs whose structure
+    differs from the first design's."""
+    for i, spec in enumerate(specs[1:], start=1):
+        for key, x, y in differences(specs[0], spec):
+            if _structural(key):
+                raise InputError(
+                    f"the designs of a batch must share one structure: {key} differs: "
+                    f"{x} vs {y} (designs 0 and {i})"
+                )
+
+
+def structure_key(spec: CrawlerSpec) -> str:
+    """A key equal for designs that :func:`check_one_structure` lets batch together."""
+    f = spec_fields(spec)
+    return repr(sorted((k, repr(v)) for k, v in f.items() if _structural(k)))

@@ -1,0 +1,125 @@
+"""Designs of one structure in one compiled program (:func:`crawler.run_batch`).
+
+A short, coarse version of the paper's run (4 elements per bristle, contact at the tips,
+a 1 mm stroke in 0.4 s): each design of a batch must take the steps of its single run.
+"""
+
+import dataclasses
+import functools
+
+import numpy as np
+import pytest
+
+from bristlecrawler.crawler import group, run, run_batch
+from bristlecrawler.errors import InputError, SolverError
+from bristlecrawler.scenario.convert import to_spec
+from bristlecrawler.scenario.load import apply_overrides, load_scenario
+
+SHORT = [
+    "bristle.elements=4",
+    "contact.nodes='tip'",
+    "contact.surface=false",
+    "contact.corners=false",
+    "actuation.s_max=1.0",
+    "actuation.period=0.4",
+    "actuation.cycles=1",
+    "actuation.settle_time=0.2",
+]
+
+
+@functools.cache
+def base():
+    return to_spec(apply_overrides(load_scenario("paper"), SHORT))
+
+
+def design(alpha_deg=45.0, mu=0.65):
+    spec = base().replace_bristles(alpha_deg=alpha_deg)
+    return dataclasses.replace(spec, contact=dataclasses.replace(spec.contact, mu=mu))
+
+
+DESIGNS = ((45.0, 0.65), (30.0, 0.65), (45.0, 0.3))
+
+
+@functools.cache
+def batch():
+    return run_batch([design(*d) for d in DESIGNS])
+
+
+@pytest.mark.parametrize("index", range(len(DESIGNS)))
+def test_each_design_of_a_batch_takes_the_steps_of_its_single_run(index):
+    single = run(design(*DESIGNS[index]))
+    b = batch()
+    assert b.errors[index] is None
+    h = b.histories[index]
+    assert h.stats["steps"] == single.stats["steps"]
+    assert h.stats["rejected_steps"] == single.stats["rejected_steps"]
+    assert h.net_advance == pytest.approx(single.net_advance, abs=1e-6)
+    np.testing.assert_allclose(h.t, single.t, atol=1e-12)
+    np.testing.assert_allclose(h.tip_position[-1], single.tip_position[-1], atol=1e-6)
+
+
+def test_a_failing_design_is_reported_while_the_others_finish():
+    """A design whose step cannot be cut far enough (dt_min = 0.02 s) fails with its
+    single run's message; the other design, beside it and a masked padding slot (width
+    3, the program of the batch above), ends as its single run does."""
+    bad = design(45.0, 0.65)
+    bad = dataclasses.replace(bad, solver=dataclasses.replace(bad.solver, dt_min=0.02))
+    with pytest.raises(SolverError) as single:
+        run(bad)
+    b = run_batch([bad, design(*DESIGNS[1])], width=3)
+    assert b.histories[0] is None
+    assert b.errors[0] == str(single.value)
+    assert b.errors[1] is None
+    assert b.histories[1].net_advance == pytest.approx(batch().histories[1].net_advance, abs=1e-9)
+    assert b.histories[1].stats["steps"] == batch().histories[1].stats["steps"]
+
+
+def test_designs_of_different_structures_are_refused_with_the_key_that_differs():
+    other = base().replace_bristles(elements=6)
+    with pytest.raises(InputError, match=r"bristle\.elements differs: 4 vs 6"):
+        run_batch([base(), other])
+    with pytest.raises(InputError, match="bristle count differs: 2 vs 3"):
+        run_batch([base(), base().with_bristles(3)])
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: run_batch([]), "at least one design"),
+        (lambda: run_batch([base(), base()], width=1), "width 1 holds at most 1 designs, got 2"),
+        (lambda: group([base(), base()], 3), "batch size 3 is larger than the 2 designs"),
+        (lambda: group([], 2), "at least one design"),
+        (lambda: group([base()], 0), "whole number >= 1"),
+    ],
+)
+def test_bad_batches_are_refused_before_any_work(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+def test_designs_are_grouped_by_structure():
+    a, b = base(), base().replace_bristles(elements=6)
+    tilted = design(30.0, 0.3)
+    assert group([a, b, tilted, a, b], 2) == [[0, 2], [3], [1, 4]]
+
+
+def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
+    """The sweep's batch task (the same program: width 3, one structure): outputs per
+    design, a failed design a value with its message."""
+    from bristlecrawler.studies.evaluate import DesignStatus
+    from bristlecrawler.studies.execute import fe_batch_task
+
+    base_config = load_scenario("paper").model_dump(mode="json")
+    short = {k: v.strip("'") for k, v in (s.split("=") for s in SHORT)}
+    short = {k: {"true": True, "false": False}.get(v, v) for k, v in short.items()}
+    numbers = {k: float(v) for k, v in short.items() if k.startswith("actuation")}
+    short = short | numbers | {"bristle.elements": 4}
+    designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"substrate.mu": 0.3}]
+    res = fe_batch_task(base_config, [short | d for d in designs], 3)
+    np.testing.assert_array_equal(
+        res["status"], [DesignStatus.DONE, DesignStatus.FAILED, DesignStatus.DONE]
+    )
+    assert res["error"][1].startswith("SolverError: stroke near t = ")
+    for i, j in ((0, 1), (2, 2)):
+        assert res["net_advance_mm"][i] == pytest.approx(batch().histories[j].net_advance, abs=1e-9)
+        assert res["steps"][i] == batch().histories[j].stats["steps"]
