@@ -21,9 +21,8 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def pytest_xdist_auto_num_workers(config):
-    """One test process per core, at most four: each holds the FE programs it compiled
-    (a few GB at its peak), and a test module runs whole on one process (--dist loadfile)
-    so that its tests share what it compiled."""
+    """For ``pytest -n auto --dist loadfile``: one test process per core, at most four
+    (each holds the FE programs it compiled, a few GB at its peak)."""
     return max(1, min(os.cpu_count() or 1, 4))
 
 

@@ -105,9 +105,11 @@ class DragResult:
             return math.nan
         i = a + int(reached[0])
         f1, f2 = self.force_x[i - 1], self.force_x[i]
-        w = (target - f1) / (f2 - f1)  # the crossing between the two samples (f2 != f1)
+        # The crossing between the two samples (at the second where the force is flat).
+        w = (target - f1) / (f2 - f1) if f2 != f1 else 1.0
         x_at = self.x[i - 1] + w * (self.x[i] - self.x[i - 1])
-        return float(abs(target - f0) / abs(x_at - self.x[a]))
+        travel = abs(x_at - self.x[a])
+        return float(abs(target - f0) / travel) if travel > 0 else math.nan
 
     def sliding(self, direction: int) -> Sliding | None:
         """The sliding force of the legs in ``direction`` (+1 along, -1 against), over the
