@@ -18,7 +18,7 @@ FINDINGS = "findings.md"
 VALIDATION = "validation.md"
 PITCH = f"{FINDINGS}#the-gait-is-quantised-by-the-textures-pitch"
 WORK = f"{FINDINGS}#the-connector-work-is-59-of-the-papers-and-why"
-DRAG = f"{FINDINGS}#a-drag-test-of-the-papers-bristle"
+DRAG = f"{FINDINGS}#a-drag-test-of-the-papers-bristle-and-what-the-reduced-models-k-means"
 VERTICAL = f"{FINDINGS}#alpha-0-paper-vertical-no-systematic-advance-a-random-walk-of-whole-pitches"
 
 #: Quotes of the documentation, one per documented difference (whitespace normalised).
