@@ -37,9 +37,9 @@ WHY_FORCE = (
     "sliding on a land can give quasi-statically."
 )
 WHY_DRAG = (
-    "the drag test's k is the stiffness of a tip held in a groove corner, and the "
-    "whole-pitch means are what a bristle pays over many grooves, not the threshold at "
-    "which it first gives way."
+    "A reduced k fitted to a crawler on grooves is therefore an *effective* k that lumps "
+    "the backslip of a texture-quantised gait into an elastic lag; it describes that "
+    "crawler on that texture and stroke, not the bristle."
 )
 WHY_VERTICAL = (
     "a single five-cycle run is a sum of whole-pitch steps whose sign is decided by "
