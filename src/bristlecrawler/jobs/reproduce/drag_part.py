@@ -69,7 +69,7 @@ def _prediction(ctx: Context, k: float, fp: float, fn: float) -> dict | None:
     cycles = ctx.value("fe-paper", "cycles")
     if fe is None or not all(math.isfinite(v) and v > 0 for v in (k, fp, fn)):
         return None
-    crawler = ReducedCrawler.two_bristle(k=k, fp=fp, fn=max(fn, fp))
+    crawler = ReducedCrawler.from_drag({"k_N_per_mm": k, "fp_N": fp, "fn_N": fn})
     res = simulate(crawler, Sin2Stroke(20.0, 20.0), cycles=cycles)
     return {"cycles": cycles, "reduced_mm": res.net_advance, "fe_mm": fe}
 
