@@ -112,7 +112,11 @@ def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
     base_config = load_scenario("paper").model_dump(mode="json")
     short = {k: v.strip("'") for k, v in (s.split("=") for s in SHORT)}
     short = {k: {"true": True, "false": False}.get(v, v) for k, v in short.items()}
-    numbers = {k: float(v) for k, v in short.items() if k.startswith("actuation")}
+    numbers = {
+        k: int(v) if v.isdigit() else float(v)
+        for k, v in short.items()
+        if k.startswith("actuation")
+    }
     short = short | numbers | {"bristle.elements": 4}
     designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"substrate.mu": 0.3}]
     res = fe_batch_task(base_config, [short | d for d in designs], 3)
