@@ -107,3 +107,14 @@ def test_damping_kind_decides_whether_the_programs_take_k_v(damping, stiff):
     if not stiff:
         with pytest.raises(InputError, match="a1"):
             fe.Rayleigh.from_ratio(0.15, 400.0, "stiffness").apply(model)
+
+
+@pytest.mark.parametrize(
+    "kw", [{"compile_threads": 0}, {"compile_threads": 1.5}, {"driver": "gpu"}]
+)
+def test_run_options_refuse_bad_values(kw):
+    from bristlecrawler.crawler import RunOptions
+    from bristlecrawler.errors import InputError
+
+    with pytest.raises(InputError, match=next(iter(kw))):
+        RunOptions(**kw)

@@ -78,10 +78,12 @@ def run_batch(
     ctxs = [RunContext(build(s), options, None, t_end=0.0) for s in specs]
     _check_programs(ctxs)
     errors: list[str | None] = [None] * len(specs)
+    before = (Settle(), ModalDamping())
     for i, ctx in enumerate(ctxs):
+        ctx.stages = before
         try:
-            Settle()(ctx)
-            ModalDamping()(ctx)
+            for stage in before:
+                stage(ctx)
         except BristlecrawlerError as exc:
             errors[i] = f"{exc}"
     stats = _BatchStroke(ctxs, errors, width, on_progress).run()

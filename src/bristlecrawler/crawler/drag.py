@@ -252,17 +252,8 @@ class DragStage:
 
 def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, on_progress=None):
     """Run a drag test of ``spec``'s bristle and return its :class:`DragResult`."""
-    import time
-
     from bristlecrawler.crawler.drag_analysis import result_of
-    from bristlecrawler.crawler.runner import ModalDamping, RunContext, RunOptions, Settle
+    from bristlecrawler.crawler.runner import ModalDamping, Settle, run_stages
 
-    wall0 = time.perf_counter()
-    dm = build_drag(spec, test)
-    ctx = RunContext(dm, options or RunOptions(), on_progress, t_end=0.0)
     stages = (Settle(), ModalDamping(), DragStage())
-    ctx.t_end = sum(s.span(ctx) for s in stages)
-    for stage in stages:
-        stage(ctx)
-    ctx.stats["wall_time_s"] = time.perf_counter() - wall0
-    return result_of(ctx)
+    return result_of(run_stages(build_drag(spec, test), stages, options, on_progress))

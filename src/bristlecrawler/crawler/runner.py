@@ -46,16 +46,24 @@ class RunOptions:
             (:func:`fe.make_driver`, one XLA loop) or "auto" (host on a CPU, compiled
             elsewhere: on a CPU both take the same time per run, but the compiled loop
             takes longer to compile and to load from the cache).
+        compile_threads: threads that compile the run's programs at its start (1: one
+            after the other; XLA compiles outside Python's lock, so more threads use more
+            cores).
     """
 
     dt0: float = 1e-3
     settle_omega: float = 200.0
     capacity: int = 512
     driver: str = "auto"
+    compile_threads: int = 4
 
     def __post_init__(self) -> None:
         if self.driver not in ("auto", "host", "compiled"):
             raise InputError(f"driver must be 'auto', 'host' or 'compiled', got {self.driver!r}")
+        if not (isinstance(self.compile_threads, int) and self.compile_threads >= 1):
+            raise InputError(
+                f"compile_threads must be a whole number >= 1, got {self.compile_threads!r}"
+            )
 
 
 @dataclass(frozen=True)
@@ -91,7 +99,8 @@ class _Failed(Exception):
 class RunContext:
     """The state a run's stages share: the crawler (a :class:`CrawlerModel`, or any
     object with ``model``, ``spec`` and ``observer()``: a drag test's), its current FE
-    model (with the damping in force), dynamic state, step size, records and counters."""
+    model (with the damping in force), dynamic state, step size, records, counters, and
+    the run's ``stages`` (so that the first one can compile what the others need)."""
 
     crawler: CrawlerModel
     options: RunOptions
@@ -107,6 +116,7 @@ class RunContext:
     rejected: int = 0
     stats: dict = field(default_factory=dict)
     stage: str = ""
+    stages: tuple = ()
 
     @property
     def spec(self) -> CrawlerSpec:
@@ -210,31 +220,68 @@ class Settle:
             max(spec.damping.ratio, 0.15), opt.settle_omega, "mass"
         )
         ctx.model = ctx.damping.apply(ctx.crawler.model)
-        ctx.state = fe.initial_state(ctx.model)
         ctx.dt = opt.dt0
         ctx.report("compiling")
-        _time_compilation(ctx)
+        ctx.state = _prepare(ctx)
         ctx.report(self.name)
         ctx.advance(self.span(ctx), min(spec.solver.dt_max, 0.01), self.name, check=False)
         ctx.records.clear()
 
 
-def _time_compilation(ctx: RunContext) -> None:
-    """The step's compilation (or its load from the persistent cache), timed apart: one
-    call of the host driver's jitted step (same argument types) on the initial state."""
-    from bristlecrawler import fe
+def _prepare(ctx: RunContext):
+    """The run's initial state, with the programs of its stages compiled (or loaded from
+    the persistent cache) at once, each in a thread: the initial state's, the step's, the
+    observer's and, when a :class:`ModalDamping` stage follows, the modal analysis's.
+    XLA compiles outside Python's lock, so the programs compile side by side
+    (``RunOptions.compile_threads``; ``bench/bench_crawler.py --compile-threads``
+    compares). The programs other than the initial state's are called on a state of
+    zeros of the same shapes and types, so the stages find them compiled. The wall time
+    goes to ``stats["compile_time_s"]``."""
+    from concurrent.futures import ThreadPoolExecutor
 
+    from bristlecrawler import fe
+    from bristlecrawler.fe.dynamics import DynState
+    from bristlecrawler.fe.modal import mass_matrix
+    from bristlecrawler.fe.static import tangent
+    from bristlecrawler.fe.terms import init_histories
+
+    model = ctx.model
     if not ctx.host:
         ctx.stats["compile_time_s"] = math.nan
-        return
-    m = ctx.crawler.model
+        return fe.initial_state(model)
     t0 = time.perf_counter()
-    step = fe.make_step(
-        m.topology, m.terms, ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
+    topo, params = model.topology, model.params
+    zeros = jnp.zeros((topo.n_nodes, 3))
+    like = DynState(
+        jnp.asarray(0.0, jnp.float64),
+        jnp.zeros(topo.n_red),
+        zeros,
+        zeros,
+        zeros,
+        init_histories(model),
     )
+    # Made here, called in the threads: two threads must not build one program twice.
+    step = fe.make_step(
+        topo, model.terms, ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
+    )
+    observe = ctx.crawler.observer()
     dt = jnp.asarray(float(ctx.options.dt0) * 1e-3)
-    jax.block_until_ready(step(ctx.state, ctx.model.params, dt))
+    jobs = [
+        lambda: fe.initial_state(model),
+        lambda: step(like, params, dt),
+        lambda: observe(like, params),
+    ]
+    if any(isinstance(s, ModalDamping) for s in ctx.stages):
+        # The arguments' types of ModalDamping's fe.modes call.
+        jobs += [
+            lambda: tangent(model, like.q, 0.0, 1.0, like.history),
+            lambda: mass_matrix(model, like.q, 0.0, 1.0),
+        ]
+    with ThreadPoolExecutor(min(len(jobs), ctx.options.compile_threads)) as pool:
+        futures = [pool.submit(job) for job in jobs]
+        done = [jax.block_until_ready(f.result()) for f in futures]
     ctx.stats["compile_time_s"] = time.perf_counter() - t0
+    return done[0]
 
 
 @dataclass(frozen=True)
@@ -340,17 +387,25 @@ def run(
 ) -> CrawlerHistory:
     """Run ``stages`` on a built crawler (or build a spec first) and return the record of
     its stroke; raises :class:`SolverError` with where and why on a solver failure."""
-    wall0 = time.perf_counter()
     cm = crawler if isinstance(crawler, CrawlerModel) else build(crawler)
-    options = options or RunOptions()
-    ctx = RunContext(cm, options, on_progress, t_end=0.0)
+    ctx = run_stages(cm, stages, options, on_progress)
+    if not ctx.records:
+        raise InputError("a run needs a recording stage (Stroke) after the others")
+    return history_of(ctx)
+
+
+def run_stages(crawler, stages: Sequence[Stage], options=None, on_progress=None) -> RunContext:
+    """Run ``stages`` in order on ``crawler`` (a :class:`CrawlerModel`, or any object
+    :class:`RunContext` takes) and return their context; ``stats["wall_time_s"]`` is
+    the whole."""
+    wall0 = time.perf_counter()
+    ctx = RunContext(crawler, options or RunOptions(), on_progress, t_end=0.0)
+    ctx.stages = tuple(stages)
     ctx.t_end = sum(s.span(ctx) for s in stages)
     for stage in stages:
         stage(ctx)
-    if not ctx.records:
-        raise InputError("a run needs a recording stage (Stroke) after the others")
     ctx.stats["wall_time_s"] = time.perf_counter() - wall0
-    return history_of(ctx)
+    return ctx
 
 
 def history_of(ctx: RunContext) -> CrawlerHistory:

@@ -193,6 +193,35 @@ def _force(u, v, t, history, params, topo, terms, freeze=False):
     return damp + f_int + f_t - f_ext, scale
 
 
+def step_equations(state, params, dt, topo, terms, ig: Integrator):
+    """The equations of one time step of ``dt`` (s) from ``state``: ``kin(q, tc)``, the
+    full (u, v, a) at the end of the step for reduced unknowns ``q`` (prescribed motions
+    at time ``tc``, default the step's end), and ``residual(q, tc, freeze)``, the HHT
+    residual in the reduced unknowns and its force scale (see the module; ``freeze``:
+    :func:`assembly.terms_residual`)."""
+    al, be, ga = ig.alpha, ig.beta, ig.gamma
+    t0, t1 = state.t, state.t + dt
+    u0, v0, a0 = state.u, state.v, state.a
+    r0, s0 = _force(u0, v0, t0, state.history, params, topo, terms)
+
+    def kin(q, tc=t1):
+        # tc: time of the prescribed motions (supports, link stretches) in expand
+        u = assembly.expand(q, tc, 1.0, params, topo)
+        a = (u - u0 - dt * v0) / (be * dt**2) - (0.5 / be - 1.0) * a0
+        v = v0 + dt * ((1.0 - ga) * a0 + ga * a)
+        return u, v, a
+
+    def residual(q, tc=t1, freeze=False):
+        u, v, a = kin(q, tc)
+        r1, s1 = _force(u, v, t1, state.history, params, topo, terms, freeze)
+        Ma = assembly.mass_times(a, params, topo)
+        full = Ma + (1.0 + al) * r1 - al * r0
+        (R,) = jax.vjp(lambda q: assembly.expand(q, tc, 1.0, params, topo), q)[1](full)
+        return R, jnp.linalg.norm(Ma) + s1 + jnp.abs(al) * s0
+
+    return kin, residual
+
+
 @functools.lru_cache(maxsize=64)
 def make_step(topo, terms=(), integrator: Integrator | None = None):
     """Jitted ``step(state, params, dt) -> (state, StepInfo)`` for one topology.
@@ -201,29 +230,12 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
     Works under ``jax.vmap`` over (state, params) batches of the same topology.
     """
     ig = Integrator.hht() if integrator is None else integrator
-    al, be, ga = ig.alpha, ig.beta, ig.gamma
 
     @jax.jit
     def step(state, params, dt):
         t0, t1 = state.t, state.t + dt
-        u0, v0, a0 = state.u, state.v, state.a
-        r0, s0 = _force(u0, v0, t0, state.history, params, topo, terms)
-
-        def kin(q, tc=t1):
-            # tc: time of the prescribed motions (supports, link stretches) in expand
-            u = assembly.expand(q, tc, 1.0, params, topo)
-            a = (u - u0 - dt * v0) / (be * dt**2) - (0.5 / be - 1.0) * a0
-            v = v0 + dt * ((1.0 - ga) * a0 + ga * a)
-            return u, v, a
-
-        def residual(q, tc=t1, freeze=False):
-            u, v, a = kin(q, tc)
-            r1, s1 = _force(u, v, t1, state.history, params, topo, terms, freeze)
-            Ma = assembly.mass_times(a, params, topo)
-            full = Ma + (1.0 + al) * r1 - al * r0
-            (R,) = jax.vjp(lambda q: assembly.expand(q, tc, 1.0, params, topo), q)[1](full)
-            return R, jnp.linalg.norm(Ma) + s1 + jnp.abs(al) * s0
-
+        u0 = state.u
+        kin, residual = step_equations(state, params, dt, topo, terms, ig)
         if ig.predictor == "tangent":
             # Euler (tangent) predictor. From the last q, the prescribed motion of the step
             # distorts the stiffest elements next to a moving support (a bristle root carried
