@@ -216,3 +216,25 @@ def test_a_given_recording_is_analysed_instead_of_the_synthetic_one(tmp_path):
     _, analysis, source = load_recording(path)
     assert source == path and analysis.signals.n_cycles == 3
     assert analysis.fit.fp_over_k_mm == pytest.approx(0.6, abs=0.02)
+
+
+def test_open_hands_the_written_report_to_the_browser(tmp_path, run_cli, monkeypatch):
+    """``--open`` opens the report the run wrote, as a file URI, once it is written."""
+    import webbrowser
+
+    real = rp.run_reproduce
+    parts = tuple(p for p in rp.PARTS if p.name == "reduced")
+    monkeypatch.setattr(
+        rp, "run_reproduce", lambda opts: real(dataclasses.replace(opts, parts=parts))
+    )
+    opened = []
+
+    def browser(uri):
+        opened.append((uri, Path(uri.removeprefix("file://")).is_file()))
+        return True
+
+    monkeypatch.setattr(webbrowser, "open", browser)
+    out = tmp_path / "run"
+    code, _, err = run_cli(["reproduce", "--quick", "--json", "--open", "--out", str(out)])
+    assert code == 0, err
+    assert opened == [((out / "report.html").resolve().as_uri(), True)]

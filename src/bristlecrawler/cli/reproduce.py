@@ -19,7 +19,7 @@ def reproduce_cmd(
         typer.Option(
             "--quick",
             help="the short version: one FE cycle, 6 elements per "
-            "bristle, two starting places at alpha = 0, a reduced-only design study",
+            "bristle, one starting place at alpha = 0, a reduced-only design study",
         ),
     ] = False,
     as_json: Annotated[

@@ -132,20 +132,23 @@ def run_vertical(ctx: Context) -> PartResult:
         plot_vertical([p for p, _ in runs], [h for _, h in runs], inclined), ctx.folder / fig.path
     )
     listed = ", ".join(f"{p:g} mm: {a:+.2f}" for (p, _), a in zip(runs, adv, strict=True))
+    where = (
+        f"one cycle from each of {m} starting places of the tips on the texture (the "
+        f"grooves shifted by 0 to {phases[-1]:g} mm of the {pitch:g} mm pitch)"
+        if m > 1
+        else "one cycle from one starting place of the tips on the texture"
+    )
     lines = [
-        f"The shipped `paper-vertical` scenario (alpha = 0), one cycle from each of {m} "
-        f"starting places of the tips on the texture (the grooves shifted by 0 to "
-        f"{phases[-1]:g} mm of the {pitch:g} mm pitch), {ctx.settings.elements} elements "
-        "per bristle.",
+        f"The shipped `paper-vertical` scenario (alpha = 0), {where}, "
+        f"{ctx.settings.elements} elements per bristle.",
         "",
         f"* advance of each cycle (shift: advance, mm): {listed}",
         f"* mean advance per cycle **{mean:+.2f} mm**, standard error "
         f"{_fmt(sem)} mm (paper: no appreciable net advancement)",
         "* Each cycle moves by whole pitches either way: which tip slips first at a groove "
         "event is decided by round-off, so the mean over starting places, not one run, is "
-        "the measure ([findings](https://github.com/) below).",
+        "the measure.",
     ]
-    lines[-1] = lines[-1].replace(" ([findings](https://github.com/) below)", "")
     lines += [f"* failed: {f}" for f in failed]
     values = {
         "advance_per_cycle_mean_mm": mean,

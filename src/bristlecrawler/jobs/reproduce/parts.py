@@ -57,7 +57,7 @@ class Settings:
             quick=True,
             fe_cycles=1,
             elements=6,
-            vertical_phases=2,
+            vertical_phases=1,
             drag_distance=4.0,
             study_fe=False,
             workers=1,

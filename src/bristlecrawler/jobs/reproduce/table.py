@@ -173,8 +173,12 @@ def _vertical(ctx: Context):
     places = ctx.value("fe-vertical", "starting_places_mm")
     if mean is None:
         return None, _missing(ctx, "fe-vertical"), "FE, alpha = 0"
-    text = f"{mean:+.2f} ± {sem:.2f} (standard error)" if sem is not None else ""
-    return mean, text, f"FE, alpha = 0, one cycle from {len(places)} starting places"
+    if sem is None:
+        text = f"{mean:+.2f} (one starting place: no standard error)"
+    else:
+        text = f"{mean:+.2f} ± {sem:.2f} (standard error)"
+    n = len(places)
+    return mean, text, f"FE, alpha = 0, one cycle from {n} starting place{'s' * (n > 1)}"
 
 
 ROWS: tuple[RowSpec, ...] = (
