@@ -66,9 +66,33 @@ def simulate_cmd(
     shapes.png, connector.png, crawler.gif (+ crawler.mp4 with the video extra),
     summary.json, config.json, scenario.toml (rerun it with simulate FILE), meta.json.
     """
-    from bristlecrawler.errors import InputError
     from bristlecrawler.fe import enable_compilation_cache
     from bristlecrawler.jobs.simulate import run_simulation, summary_json
+
+    sc = _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk)
+    enable_compilation_cache()
+    run = run_simulation(
+        sc,
+        out=out,
+        progress=False if as_json else progress,
+        command="bristlecrawler " + shlex.join(sys.argv[1:]),
+        replace=replace,
+    )
+    for w in (*run.notes, *run.summary["warnings"]):
+        typer.echo(f"warning: {w}", err=True)
+    _note_defaults(scenario)
+    if run.out_dir is not None and sc.output.animation:
+        _note_mp4()
+    if as_json:
+        typer.echo(summary_json(run.summary))
+        return
+    _print_summary(run.summary)
+
+
+def _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk):
+    """The scenario with the command's options applied; InputError for options that
+    contradict each other."""
+    from bristlecrawler.errors import InputError
     from bristlecrawler.scenario.load import apply_overrides, apply_values, load_scenario
 
     sc = load_scenario(scenario)
@@ -93,30 +117,18 @@ def simulate_cmd(
         # Set as a value, not a TOML string (any file name), absolute (config.json reruns).
         path = str(history.expanduser().absolute())
         sc = apply_values(sc, {"actuation.kind": "history", "actuation.history": path})
-    enable_compilation_cache()
-    run = run_simulation(
-        sc,
-        out=out,
-        progress=False if as_json else progress,
-        command="bristlecrawler " + shlex.join(sys.argv[1:]),
-        replace=replace,
-    )
-    for w in (*run.notes, *run.summary["warnings"]):
-        typer.echo(f"warning: {w}", err=True)
-    _note_defaults(scenario)
-    if run.out_dir is not None and sc.output.animation:
-        from bristlecrawler.viz.animation import mp4_available
+    return sc
 
-        if not mp4_available():
-            typer.echo(
-                "note: crawler.gif written, no crawler.mp4: MP4 needs the video extra "
-                "(pip install 'bristlecrawler[video]')",
-                err=True,
-            )
-    if as_json:
-        typer.echo(summary_json(run.summary))
-        return
-    _print_summary(run.summary)
+
+def _note_mp4() -> None:
+    from bristlecrawler.viz.animation import mp4_available
+
+    if not mp4_available():
+        typer.echo(
+            "note: crawler.gif written, no crawler.mp4: MP4 needs the video extra "
+            "(pip install 'bristlecrawler[video]')",
+            err=True,
+        )
 
 
 def _note_defaults(scenario: str) -> None:

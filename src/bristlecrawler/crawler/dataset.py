@@ -75,6 +75,54 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
                 "long_name": "energy balance residual: W_c minus stored energies and dissipations",
             },
         ),
+    }
+    data |= _drawing(h) | _optional(h)
+    for name, series in h.energies.items():
+        what = _ENERGY_NAMES.get(name, f"{name} energy")
+        data[f"energy_{name}"] = ("time", series, {"units": "mJ", "long_name": what})
+    ds = xr.Dataset(
+        data,
+        coords={
+            "time": ("time", h.t, {"units": "s"}),
+            "frame_time": ("frame", h.frame_t, {"units": "s"}),
+            "xy": ["x", "y"],
+        },
+        attrs={
+            "model": "bristlecrawler finite-element crawler",
+            "units": "mm, N, s, t, mJ",
+            "name": h.name,
+        },
+    )
+    ds.attrs.update(_run_attrs(h, attrs))
+    return ds
+
+
+def _optional(h) -> dict:
+    """The variables of a history that has per-segment records and section thicknesses."""
+    out = {}
+    if h.segment_shortening is not None:
+        out["segment_shortening"] = (
+            ("time", "segment"),
+            h.segment_shortening + 0.0,
+            {"units": "mm", "long_name": "shortening of each body segment"},
+        )
+        out["segment_force"] = (
+            ("time", "segment"),
+            h.segment_force,
+            {"units": "N", "long_name": "connector force of each segment's actuator (pulling)"},
+        )
+    if h.node_thickness is not None:
+        out["node_thickness"] = (
+            "node",
+            h.node_thickness,
+            {"units": "mm", "long_name": "bristle section thickness at the node (0 elsewhere)"},
+        )
+    return out
+
+
+def _drawing(h) -> dict:
+    """The variables that draw the crawler: frames, line cells and the substrate."""
+    return {
         "frame_nodes": (
             ("frame", "node", "xy"),
             h.frame_nodes,
@@ -100,44 +148,14 @@ def crawler_dataset(h, attrs: dict[str, Any] | None = None):
             {"units": "mm", "long_name": "substrate surface (drawing, fillets left out)"},
         ),
     }
-    if h.segment_shortening is not None:
-        data["segment_shortening"] = (
-            ("time", "segment"),
-            h.segment_shortening + 0.0,
-            {"units": "mm", "long_name": "shortening of each body segment"},
-        )
-        data["segment_force"] = (
-            ("time", "segment"),
-            h.segment_force,
-            {"units": "N", "long_name": "connector force of each segment's actuator (pulling)"},
-        )
-    if h.node_thickness is not None:
-        data["node_thickness"] = (
-            "node",
-            h.node_thickness,
-            {"units": "mm", "long_name": "bristle section thickness at the node (0 elsewhere)"},
-        )
-    for name, series in h.energies.items():
-        what = _ENERGY_NAMES.get(name, f"{name} energy")
-        data[f"energy_{name}"] = ("time", series, {"units": "mJ", "long_name": what})
-    ds = xr.Dataset(
-        data,
-        coords={
-            "time": ("time", h.t, {"units": "s"}),
-            "frame_time": ("frame", h.frame_t, {"units": "s"}),
-            "xy": ["x", "y"],
-        },
-        attrs={
-            "model": "bristlecrawler finite-element crawler",
-            "units": "mm, N, s, t, mJ",
-            "name": h.name,
-        },
-    )
+
+
+def _run_attrs(h, attrs: dict[str, Any] | None) -> dict:
+    """The run's statistics, the caller's attributes (strings where not numbers), the
+    period and the number of cycles."""
     extra = dict(h.stats) | (attrs or {})
-    ds.attrs.update(
-        {k: v if isinstance(v, int | float | str) else str(v) for k, v in extra.items()}
-    )
+    out = {k: v if isinstance(v, int | float | str) else str(v) for k, v in extra.items()}
     if h.period is not None:
-        ds.attrs["period_s"] = float(h.period)
-    ds.attrs["cycles"] = int(h.cycles)
-    return ds
+        out["period_s"] = float(h.period)
+    out["cycles"] = int(h.cycles)
+    return out

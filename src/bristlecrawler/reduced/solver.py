@@ -269,25 +269,14 @@ def solve(
         ReducedResult. Raises InputError on inconsistent input, SolverError if the rate
         problem has no solution (cannot happen for valid crawlers).
     """
-    t = np.asarray(t, dtype=float)
-    s = np.asarray(shortening, dtype=float)
-    if s.ndim == 1:
-        s = s[:, None]
+    t, s = _checked_samples(crawler, t, shortening)
     n = crawler.n_bristles
-    if t.ndim != 1 or t.size < 2 or s.shape != (t.size, n - 1):
-        raise InputError(f"shortening must have shape ({t.size}, {n - 1}), got {s.shape}")
-    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(s))):
-        raise InputError("times and shortenings must be finite")
-    if np.any(np.diff(t) <= 0):
-        raise InputError("sample times must be strictly increasing")
-    crawler.check_stroke(s.max(axis=0))
-
     a = np.zeros((t.size, n))
     a[:, 1:] = np.cumsum(crawler.segment_lengths - s, axis=1)
     M = t.size
     scale = crawler.length + float(np.max(crawler.fn / crawler.k))
     st = _Stepper(crawler, scale)
-    k, tol = crawler.k, st.tol
+    k = crawler.k
 
     X0 = np.zeros(M)
     e = np.zeros((M, n))
@@ -319,32 +308,8 @@ def solve(
             events.append(Event(float(t[m]), int(i), int(mode[i]), int(new_mode[i])))
         mode = new_mode
 
-        # Advance the unchanged mode in bulk over samples m..end.
-        end = min(M - 1, m + chunk)
-        stick = mode == SLIP_NONE
-        da = a[m : end + 1] - a[m]
-        # Body motion: balance of the sticking springs; with every tip sliding (a degenerate
-        # balance, F_n = F_p) the least-squares slip rates of the rate problem.
-        w = stick if stick.any() else np.ones_like(stick)
-        dX0 = -(da[:, w] @ k[w]) / k[w].sum()
-        disp = dX0[:, None] + da
-        e_try = np.where(stick, e[m] + disp, e[m])
-        x_try = np.where(stick, x[m], x[m] + disp)
-        bad_e = ((e_try > st.upper + tol) | (e_try < st.lower - tol)) & stick
-        dx = np.diff(x_try, axis=0)
-        bad_x = (mode * dx < -tol) & ~stick
-        bad = bad_e[1:].any(axis=1) | bad_x.any(axis=1)
-        q = int(np.argmax(bad)) if bad.any() else end - m  # accepted intervals
-        chunk = chunk * 2 if not bad.any() else 64
-        sl = slice(m + 1, m + q + 1)
-        e[sl], x[sl], X0[sl] = e_try[1 : q + 1], x_try[1 : q + 1], X0[m] + dX0[1 : q + 1]
-        mode_out[sl] = mode
-        ksum = e_try[: q + 1] * k
-        dW = np.einsum("ij,ij->i", 0.5 * (ksum[1:] + ksum[:-1]), np.diff(da[: q + 1], axis=0))
-        f = np.where(mode > 0, crawler.fp, crawler.fn)
-        dD = np.abs(dx[:q]) @ np.where(stick, 0.0, f)
-        W[sl] = W[m] + np.cumsum(dW)
-        D[sl] = D[m] + np.cumsum(dD)
+        q, clean = _bulk(st, crawler, a, (e, x, X0, W, D, mode_out), mode, m, min(M - 1, m + chunk))
+        chunk = chunk * 2 if clean else 64
         m += q
 
     X = X0[:, None] + a
@@ -363,3 +328,55 @@ def solve(
         events=tuple(events),
         cycle_bounds=bounds,
     )
+
+
+def _checked_samples(crawler: ReducedCrawler, t, shortening) -> tuple[np.ndarray, np.ndarray]:
+    """Sample times (M,) and shortenings (M, N - 1) as float arrays; InputError naming
+    what is wrong with them (shape, non-finite values, times not increasing, a stroke the
+    crawler cannot take)."""
+    t = np.asarray(t, dtype=float)
+    s = np.asarray(shortening, dtype=float)
+    if s.ndim == 1:
+        s = s[:, None]
+    n = crawler.n_bristles
+    if t.ndim != 1 or t.size < 2 or s.shape != (t.size, n - 1):
+        raise InputError(f"shortening must have shape ({t.size}, {n - 1}), got {s.shape}")
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(s))):
+        raise InputError("times and shortenings must be finite")
+    if np.any(np.diff(t) <= 0):
+        raise InputError("sample times must be strictly increasing")
+    crawler.check_stroke(s.max(axis=0))
+    return t, s
+
+
+def _bulk(st, crawler, a, out, mode, m: int, end: int) -> tuple[int, bool]:
+    """Advance the unchanged ``mode`` over samples ``m`` .. ``end`` at once, writing the
+    accepted samples into ``out`` = (e, x, X0, W, D, mode_out); returns the intervals
+    accepted (up to the first one where a sticking spring leaves its band or a slipping
+    tip turns) and whether all were."""
+    e, x, X0, W, D, mode_out = out
+    k, tol = crawler.k, st.tol
+    stick = mode == SLIP_NONE
+    da = a[m : end + 1] - a[m]
+    # Body motion: balance of the sticking springs; with every tip sliding (a degenerate
+    # balance, F_n = F_p) the least-squares slip rates of the rate problem.
+    w = stick if stick.any() else np.ones_like(stick)
+    dX0 = -(da[:, w] @ k[w]) / k[w].sum()
+    disp = dX0[:, None] + da
+    e_try = np.where(stick, e[m] + disp, e[m])
+    x_try = np.where(stick, x[m], x[m] + disp)
+    bad_e = ((e_try > st.upper + tol) | (e_try < st.lower - tol)) & stick
+    dx = np.diff(x_try, axis=0)
+    bad_x = (mode * dx < -tol) & ~stick
+    bad = bad_e[1:].any(axis=1) | bad_x.any(axis=1)
+    q = int(np.argmax(bad)) if bad.any() else end - m  # accepted intervals
+    sl = slice(m + 1, m + q + 1)
+    e[sl], x[sl], X0[sl] = e_try[1 : q + 1], x_try[1 : q + 1], X0[m] + dX0[1 : q + 1]
+    mode_out[sl] = mode
+    ksum = e_try[: q + 1] * k
+    dW = np.einsum("ij,ij->i", 0.5 * (ksum[1:] + ksum[:-1]), np.diff(da[: q + 1], axis=0))
+    f = np.where(mode > 0, crawler.fp, crawler.fn)
+    dD = np.abs(dx[:q]) @ np.where(stick, 0.0, f)
+    W[sl] = W[m] + np.cumsum(dW)
+    D[sl] = D[m] + np.cumsum(dD)
+    return q, not bad.any()

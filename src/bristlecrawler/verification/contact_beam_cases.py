@@ -382,58 +382,17 @@ def grooved_drag_fe(
     )
     state = _rest_state(model, term)
     clamp = 0
-    obs_fn = _energy_observer(model.topology, clamp)
-    params = model.params
-    first = obs_fn(state, params)
-    if max_dp is None:
-        res, obs = run(
-            model,
-            state,
-            t_end,
-            dt,
-            lambda st: obs_fn(st, params),
-            integrator=integrator or DRAG_HHT,
-        )
-    else:
-        res = run_resolving(
-            model,
-            state,
-            t_end,
-            dt,
-            lambda st: obs_fn(st, params),
-            max_dp,
-            integrator=integrator or DRAG_HHT,
-        )
-        obs = res.observed
-    obs = [jax.device_get(first), *obs]
+    obs, rejected = _drive(model, state, t_end, dt, clamp, max_dp, integrator or DRAG_HHT)
     get = {k: np.array([o[k] for o in obs]) for k in obs[0]}
     u = get["u"]
-    work = _trapezoid_work(get["reaction"][:, :2], u[:, clamp, :2])
-    damping = _trapezoid_work(get["damping_force"], u)
-    energies = {
-        "work_in": work,
-        "elastic": get["elastic"] - get["elastic"][0],
-        "kinetic": get["kinetic"] - get["kinetic"][0],
-        "friction": get["friction"] - get["friction"][0],
-        "damping": damping,
-    }
-    rest = energies["elastic"] + energies["kinetic"] + energies["friction"] + damping
-    err = float(np.max(np.abs(work - rest)) / np.max(np.abs(work)))
+    energies, err = _drag_energies(get, clamp)
     c, s = np.cos(u[:, tip, 2]), np.sin(u[:, tip, 2])
     point = (
-        np.asarray(params.X)[tip]
+        np.asarray(model.params.X)[tip]
         + u[:, tip, :2]
         + np.column_stack([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
     )
-    top, depth = float(grooves.top), float(grooves.depth)
-    below = point[:, 1] - radius < top - 0.5 * depth
-    entered = int(np.sum(below[1:] & ~below[:-1]))
-    climbs = int(np.sum(~below[1:] & below[:-1]))
-    lo, hi = point[:, 0].min(), point[:, 0].max()
-    pitch, phase, width = float(grooves.pitch), float(grooves.phase), float(grooves.width)
-    k = np.arange(math.floor((lo - phase) / pitch), math.ceil((hi - phase) / pitch) + 1)
-    left = phase + k * pitch
-    passed = int(np.sum((left > lo) & (left + width < hi)))
+    passed, entered, climbs = _groove_passages(point, grooves, radius)
     pen = float(np.max(get["p_n"]) / float(law.k_n))
     return GrooveDragRun(
         get["t"],
@@ -447,8 +406,60 @@ def grooved_drag_fe(
         climbs,
         err,
         pen,
-        res.rejected,
+        rejected,
     )
+
+
+def _drive(model, state, t_end, dt, clamp, max_dp, integrator):
+    """The records of a drag from ``state`` to ``t_end`` (the first one at ``state``) and
+    the rejected steps: :func:`run_resolving` bounding the normal-force change of a
+    slipping step by ``max_dp`` N, or the plain driver for None."""
+    obs_fn = _energy_observer(model.topology, clamp)
+    params = model.params
+    first = obs_fn(state, params)
+
+    def observe(st):
+        return obs_fn(st, params)
+
+    if max_dp is None:
+        res, obs = run(model, state, t_end, dt, observe, integrator=integrator)
+    else:
+        res = run_resolving(model, state, t_end, dt, observe, max_dp, integrator=integrator)
+        obs = res.observed
+    return [jax.device_get(first), *obs], res.rejected
+
+
+def _drag_energies(get, clamp):
+    """Energies of a drag's records (work in at the clamp and damping by the trapezoidal
+    rule, the others state values, all from zero) and the balance error relative to the
+    largest work."""
+    u = get["u"]
+    work = _trapezoid_work(get["reaction"][:, :2], u[:, clamp, :2])
+    damping = _trapezoid_work(get["damping_force"], u)
+    energies = {
+        "work_in": work,
+        "elastic": get["elastic"] - get["elastic"][0],
+        "kinetic": get["kinetic"] - get["kinetic"][0],
+        "friction": get["friction"] - get["friction"][0],
+        "damping": damping,
+    }
+    rest = energies["elastic"] + energies["kinetic"] + energies["friction"] + damping
+    return energies, float(np.max(np.abs(work - rest)) / np.max(np.abs(work)))
+
+
+def _groove_passages(point, grooves, radius):
+    """(grooves passed over, drops into a groove, climbs out) of a contact point's path
+    (k, 2) mm: below half the depth counts as in a groove."""
+    top, depth = float(grooves.top), float(grooves.depth)
+    below = point[:, 1] - radius < top - 0.5 * depth
+    entered = int(np.sum(below[1:] & ~below[:-1]))
+    climbs = int(np.sum(~below[1:] & below[:-1]))
+    lo, hi = point[:, 0].min(), point[:, 0].max()
+    pitch, phase, width = float(grooves.pitch), float(grooves.phase), float(grooves.width)
+    k = np.arange(math.floor((lo - phase) / pitch), math.ceil((hi - phase) / pitch) + 1)
+    left = phase + k * pitch
+    passed = int(np.sum((left > lo) & (left + width < hi)))
+    return passed, entered, climbs
 
 
 __all__ = [
