@@ -145,7 +145,8 @@ def _header(info, settings: Settings, ctx: Context) -> tuple[str, ...]:
         f"run `{info.run_id}` (started {info.started})",
         f"* version: {mode}; {settings.elements} elements per bristle, "
         f"{settings.fe_cycles} FE cycle(s) at alpha = pi/4, {settings.vertical_phases} "
-        f"starting places at alpha = 0; {wall:.0f} s in all",
+        f"starting place{'s' * (settings.vertical_phases > 1)} at alpha = 0; "
+        f"{wall:.0f} s in all",
         f"* parts that failed: {', '.join(failed) if failed else 'none'}",
     ]
     return tuple(lines)
