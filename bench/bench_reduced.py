@@ -1,7 +1,7 @@
 """Benchmark of the reduced model: closed form over many designs, exact solver.
 
 Run: ``python bench/bench_reduced.py``. Prints a table; nothing is asserted.
-Targets (issue #2, 2-core machine): closed form over 1e6 designs < 1 s; solver, two
+Targets (2-core machine): closed form over 1e6 designs < 1 s; solver, two
 bristles, 5 cycles x 1e4 samples < 0.2 s; ten bristles < 2 s.
 """
 

@@ -1,4 +1,4 @@
-"""Convergence study of the FE crawler (issue #5): element size and time-step tolerance.
+"""Convergence study of the FE crawler: element size and time-step tolerance.
 
 Runs a shipped scenario (default ``paper``) at its own resolution and at the refinements
 the issue asks for: twice the elements per bristle (half the element size), a tenth of

@@ -1,4 +1,4 @@
-"""Sensitivity of the FE crawler (issue #5) to the inputs the paper does not give.
+"""Sensitivity of the FE crawler to the inputs the paper does not give.
 
 The groove pitch (default 2 mm) and the length of the rigid links from the body down to
 the bristle clamps (default 10 mm) are not in the paper. This study runs the scenario
