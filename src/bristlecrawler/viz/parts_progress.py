@@ -60,24 +60,15 @@ def parts_progress(
     if not enabled:
         yield _Null()
         return
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        Progress,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
+    from rich.progress import BarColumn, TextColumn
 
-    progress = Progress(
+    from bristlecrawler.viz.progress import stderr_bars
+
+    progress = stderr_bars(
         TextColumn("[bold]{task.description:<12}"),
         BarColumn(bar_width=24),
         TextColumn("{task.percentage:>3.0f} %"),
-        TimeElapsedColumn(),
-        TextColumn("ETA"),
-        TimeRemainingColumn(),
-        TextColumn("{task.fields[note]}"),
-        console=Console(stderr=True),
+        tail=(TextColumn("{task.fields[note]}"),),
     )
     total = progress.add_task(label, total=sum(costs.values()), note="")
     tasks = {n: progress.add_task(n, total=1.0, start=False, note="") for n in costs}

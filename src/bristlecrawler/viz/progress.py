@@ -15,6 +15,16 @@ import time
 from collections.abc import Iterator
 
 
+def stderr_bars(*columns, tail=()):
+    """A rich ``Progress`` on stderr with ``columns``, then the elapsed time and the ETA,
+    then ``tail`` columns."""
+    from rich.console import Console
+    from rich.progress import Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    eta = (TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn())
+    return Progress(*columns, *eta, *tail, console=Console(stderr=True), transient=False)
+
+
 class _Null:
     def update(self, t_sim: float, stage: str | None = None, **info) -> None:
         """Do nothing."""
@@ -75,25 +85,13 @@ def sim_progress(
     if not enabled:
         yield _Null()
         return
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        Progress,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
+    from rich.progress import BarColumn, TextColumn
 
-    progress = Progress(
+    progress = stderr_bars(
         TextColumn("[bold]{task.description}"),
         BarColumn(bar_width=12),
         TextColumn("t = {task.completed:.1f}/{task.total:.1f} s"),
         TextColumn("{task.fields[info]}"),
-        TimeElapsedColumn(),
-        TextColumn("ETA"),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-        transient=False,
     )
     task = progress.add_task(label, total=t_end, info="")
 
