@@ -86,7 +86,6 @@ def reduced_cmd(
     5 cycles of s(t) = s~ sin^2(pi t / T), T = 20 s. Writes reduced.nc (xarray/NetCDF),
     delta_vs_s.png, friction_law.png, summary.json, config.json and meta.json.
     """
-    from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.jobs.reduced import run_reduced
     from bristlecrawler.scenario.reduced import ReducedConfig
     from bristlecrawler.scenario.strict import option_names, parse_model
@@ -118,6 +117,13 @@ def reduced_cmd(
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
     )
+    _report(run, as_json)
+
+
+def _report(run, as_json: bool) -> None:
+    """The run's warnings on stderr, then its summary as JSON or as a table."""
+    from bristlecrawler.io.jsonio import dumps_strict
+
     for line in (*run.notes, *run.summary.get("warnings", ())):
         typer.echo(f"warning: {line}", err=True)
     if as_json:

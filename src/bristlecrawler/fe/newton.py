@@ -100,6 +100,33 @@ class _Iterate(NamedTuple):
     fz: Any
 
 
+def _line_search(res, q, dq, R, F, s0, pred, o: NewtonOptions):
+    """The step length along ``dq`` from ``q`` (residual ``R``, force scale ``F``) and the
+    residual and force scale there: the first trial at ``s0`` (taken whole on the
+    predictor ``pred``), halved while the residual is not finite or above the bound of
+    ``o.line_search`` (see :func:`newton`), at most down to ``2**-o.max_backtracks``."""
+    if o.line_search == "monotone":
+        bound = jnp.linalg.norm(R)
+    else:
+        bound = o.growth * jnp.maximum(jnp.linalg.norm(R), o.rtol * F)
+    floor = 0.5**o.max_backtracks  # smallest trial, a fraction of the whole correction
+
+    def ls_cond(ls):
+        s, Rn, _, k = ls
+        ok = pred | (jnp.all(jnp.isfinite(Rn)) & (jnp.linalg.norm(Rn) <= bound))
+        return (k < 0) | (~ok & (s > floor))
+
+    def ls_body(ls):
+        s, _, _, k = ls
+        s = 0.5 * s
+        Rn, Fn = res(q + s * dq)
+        return s, Rn, Fn, k + 1
+
+    # k = -1: the first trial is made in the loop too (one residual in the program).
+    s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, (2.0 * s0, R, F, -1))
+    return s, Rn, Fn
+
+
 def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=None):
     """Solve residual(q)[0] = 0 from ``q0`` with ``options`` (:class:`NewtonOptions`; the
     names below are its fields). Returns (q, iterations, |R|, F, status).
@@ -154,9 +181,8 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
     smooth problem, and the free ones start next to the solution when the statuses hold.
     """
     o = options
-    rtol, atol, max_iter, xtol, growth = o.rtol, o.atol, o.max_iter, o.xtol, o.growth
+    rtol, atol, max_iter, xtol = o.rtol, o.atol, o.max_iter, o.xtol
     stall, freeze, max_move = o.stall, o.freeze, o.max_correction
-    monotone = o.line_search == "monotone"
     if predict is None:
         tc0 = tc1 = dt = jnp.zeros(())
     else:
@@ -177,7 +203,6 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
         # linearisation: no separate evaluation (one residual less per step).
         R0 = jnp.zeros_like(q0)
         F0 = jnp.ones((), q0.dtype)
-    floor = 0.5**o.max_backtracks  # smallest trial, a fraction of the whole correction
     if math.isfinite(max_move):
         translation = jnp.asarray(np.asarray(topo.arrays()["red"])[:, 1] < 2)
 
@@ -215,29 +240,11 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
             R = jnp.where(pred, y + Rt, R)
             dq = -banded.solve(J, R, topo)
             dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
-        if monotone:
-            bound = jnp.linalg.norm(R)
-        else:
-            bound = growth * jnp.maximum(jnp.linalg.norm(R), rtol * F)
-
-        def ls_cond(ls):
-            s, Rn, _, k = ls
-            ok = pred | (jnp.all(jnp.isfinite(Rn)) & (jnp.linalg.norm(Rn) <= bound))
-            return (k < 0) | (~ok & (s > floor))
-
-        def ls_body(ls):
-            s, _, _, k = ls
-            s = 0.5 * s
-            Rn, Fn = res_t(q + s * dq, tc1, fz)
-            return s, Rn, Fn, k + 1
-
         s0 = jnp.asarray(1.0)
         if math.isfinite(max_move):  # static
             move = jnp.max(jnp.where(translation, jnp.abs(dq), 0.0), initial=0.0)
             s0 = jnp.where(pred | (move <= max_move), 1.0, max_move / move)
-        # k = -1: the first trial is made in the loop too (one residual in the program).
-        ls0 = (2.0 * s0, R, F, -1)
-        s, Rn, Fn, _ = jax.lax.while_loop(ls_cond, ls_body, ls0)
+        s, Rn, Fn = _line_search(lambda x: res_t(x, tc1, fz), q, dq, R, F, s0, pred, o)
         rn = jnp.linalg.norm(Rn)
         if stall > 0:  # static: no bookkeeping in the loop when off
             halved = rn <= 0.5 * ref
