@@ -175,8 +175,9 @@ class _BatchStroke:
     """The :class:`Stroke` stage of every design that settled, in one batched program.
 
     Each design advances in the chunks of simulated time its single run takes (the chunk
-    ends cap the step, so other chunks would give other steps); a design that reaches
-    its chunk's end waits (masked) for the others, then starts its next chunk."""
+    ends cap the step, so other chunks would give other steps); the compiled loop starts
+    a design's next chunk itself, and returns to the host only when a design's record
+    buffer is full or every design is done."""
 
     def __init__(self, ctxs, errors, width, on_progress):
         self.ctxs, self.errors, self.width = ctxs, errors, width
@@ -205,32 +206,28 @@ class _BatchStroke:
         t = np.array([float(ctxs[i].state.t) for i in slots])
         t_end = t + np.array([Stroke().span(ctxs[i]) for i in slots])
         chunk = np.array([max(ctxs[i].spec.actuation.period / 20.0, 0.5) for i in slots])
-        t_stop = np.where(real, np.minimum(t + chunk, t_end), t)
+        t_end = np.where(real, t_end, t)  # padding slots get no chunk
+        t_stop = np.minimum(t + chunk, t_end)
         it0 = np.array([ctxs[i].iterations for i in slots])
         rej0 = np.array([ctxs[i].rejected for i in slots])
         active = real.copy()
         wall0, n_batch = time.perf_counter(), 0
         while active.any():
-            args = _strong((carry, params, t_stop, dt_min, dt_max))
+            args = _strong((carry, params, t_stop, t_end, chunk, dt_min, dt_max))
             program, seconds = _compiled(run, args)
             stats["compile_time_s"] += seconds
-            carry, buf, k, failed, n = program(*args)
-            buf, k, failed, n = jax.device_get((buf, k, failed, n))
+            carry, buf, k, failed, t_stop, n = program(*args)
+            buf, k, failed, t_stop, n = jax.device_get((buf, k, failed, t_stop, n))
             n_batch += int(n)
             t = np.asarray(carry.state.t)
             for j in np.flatnonzero(active):
                 ctx = ctxs[slots[j]]
-                ctx.records.extend(
-                    jax.tree.map(lambda b, j=j, r=r: b[j, r], buf) for r in range(k[j])
-                )
+                ctx.records.extend(jax.tree.map(lambda b, j=j: b[j], buf), k[j])
                 if failed[j]:
                     self._fail(slots[j], jax.tree.map(lambda x, j=j: x[j], carry))
                     active[j] = False
-                elif t[j] >= t_stop[j] - 1e-9:
-                    if t_stop[j] >= t_end[j] - 1e-9:
-                        active[j] = False
-                    else:
-                        t_stop[j] = min(t[j] + chunk[j], t_end[j])
+                elif t[j] >= t_end[j] - 1e-9:
+                    active[j] = False
             t_stop = np.where(active, t_stop, t)
             self._report(t, t_end, active)
         stroke_wall = time.perf_counter() - wall0

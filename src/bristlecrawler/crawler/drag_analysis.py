@@ -244,12 +244,11 @@ def result_of(ctx) -> DragResult:
 
     dm, records = ctx.crawler, ctx.records
     settle = dm.spec.actuation.settle_time
-    t = np.array([float(r["t"]) for r in records]) - settle
-    x = np.array([float(r["stretch"][0]) for r in records])
-    drive = np.array([float(r["fc"][0]) for r in records])
-    fx = np.array([float(r["push"][0]) for r in records])
-    en = np.stack([np.asarray(r["energies"]) for r in records])
-    nodes = np.stack([np.asarray(r["x"]) for r in records])
+    t = records.column("t").astype(float) - settle
+    x = records.column("stretch")[:, 0].astype(float)
+    drive = records.column("fc")[:, 0].astype(float)
+    fx = records.column("push")[:, 0].astype(float)
+    en, nodes = records.column("energies"), records.column("x")
     knots_t = dm.test.leg_times()
     edges = np.searchsorted(t, knots_t - 1e-9)
     edges[-1] = t.size - 1
@@ -268,11 +267,11 @@ def result_of(ctx) -> DragResult:
     return DragResult(
         t=t,
         x=x,
-        lift=np.array([float(r["lift"]) for r in records]),
+        lift=records.column("lift").astype(float),
         force_x=fx,
-        contact=np.stack([np.asarray(r["contact"]) for r in records]),
+        contact=records.column("contact"),
         tip=nodes[:, dm.chain[-1]],
-        tip_state=np.array([int(np.asarray(r["tip_state"])[0]) for r in records]),
+        tip_state=records.column("tip_state")[:, 0].astype(int),
         energies=energy_series(t, drive, x, en),
         pitch=substrate_pitch(dm.spec),
         load=dm.load,

@@ -153,3 +153,46 @@ def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:
         "damping": damping_diss,
         "external": work,
     }
+
+
+class Records:
+    """The records of a run's accepted steps, kept as the blocks of stacked rows that the
+    drivers return (one block per driver call, not one object per step: a batch of a
+    thousand five-cycle designs records millions of steps).
+
+    ``append(row)`` adds one record (a dict of arrays), ``extend(block, k)`` the first
+    ``k`` rows of a block whose arrays have a leading row axis; ``column(key)`` is one
+    entry of every record stacked on a leading axis; ``last()`` the newest record."""
+
+    def __init__(self) -> None:
+        self._blocks: list[dict] = []
+        self._n = 0
+
+    def __len__(self) -> int:
+        return self._n
+
+    def __bool__(self) -> bool:
+        return self._n > 0
+
+    def append(self, row) -> None:
+        self.extend(jax.tree.map(lambda x: np.asarray(x)[None], row), 1)
+
+    def extend(self, block, k: int) -> None:
+        k = int(k)
+        if k > 0:
+            self._blocks.append(jax.tree.map(lambda b: np.asarray(b[:k]), block))
+            self._n += k
+
+    def clear(self) -> None:
+        self._blocks.clear()
+        self._n = 0
+
+    def column(self, key: str) -> np.ndarray:
+        if not self._blocks:
+            raise IndexError("no records")
+        return np.concatenate([b[key] for b in self._blocks], axis=0)
+
+    def last(self) -> dict:
+        if not self._blocks:
+            raise IndexError("no records")
+        return jax.tree.map(lambda b: b[-1], self._blocks[-1])

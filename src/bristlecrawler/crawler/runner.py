@@ -28,7 +28,7 @@ import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build
-from bristlecrawler.crawler.record import EnergyCheck, energy_series
+from bristlecrawler.crawler.record import EnergyCheck, Records, energy_series
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError, SolverError
 
@@ -111,7 +111,7 @@ class RunContext:
     dt: float = 0.0
     damping: object = None
     omega1: float = math.nan
-    records: list = field(default_factory=list)
+    records: Records = field(default_factory=Records)
     iterations: int = 0
     rejected: int = 0
     stats: dict = field(default_factory=dict)
@@ -170,7 +170,7 @@ class RunContext:
                 carry, self.model.params, t_stop, self.spec.solver.dt_min, dt_max
             )
             buf, k = jax.device_get(buf), int(k)
-            self.records.extend(jax.tree.map(lambda b, i=i: b[i], buf) for i in range(k))
+            self.records.extend(buf, k)
             self.iterations += int(carry.iterations) - it0
             self.rejected += int(carry.rejected) - rej0
             self.state, self.dt = carry.state, float(carry.dt)
@@ -413,11 +413,7 @@ def history_of(ctx: RunContext) -> CrawlerHistory:
     from bristlecrawler.contact.profile import drawing
 
     cm, spec, records = ctx.crawler, ctx.spec, ctx.records
-    t = np.array([float(r["t"]) for r in records])
-    x = np.stack([np.asarray(r["x"]) for r in records])
-    fc = np.stack([np.asarray(r["fc"]) for r in records])
-    s = np.stack([np.asarray(r["stretch"]) for r in records])
-    en = np.stack([np.asarray(r["energies"]) for r in records])
+    t, x, fc, s, en = (records.column(k) for k in ("t", "x", "fc", "stretch", "energies"))
     energies = energy_series(t, fc, s, en)
     settle = spec.actuation.settle_time
     surf = drawing(spec.substrate.profile(), x[..., 0].min() - 5.0, x[..., 0].max() + 5.0)
@@ -439,7 +435,7 @@ def history_of(ctx: RunContext) -> CrawlerHistory:
         connector_force=fc[:, 0],
         connector_work=energies["external"],
         tip_position=np.stack([x[:, tip] for tip in cm.tips], axis=1),
-        tip_state=np.stack([np.asarray(r["tip_state"]) for r in records]),
+        tip_state=records.column("tip_state"),
         energies=energies,
         frame_t=t - settle,
         frame_nodes=x,

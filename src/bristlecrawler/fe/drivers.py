@@ -151,37 +151,50 @@ def make_batch_driver(
     check=None,
 ):
     """:func:`make_driver` for a batch of designs of one structure, in one compiled loop:
-    ``run(carry, params, t_end, dt_min, dt_max)`` with every argument stacked on a leading
-    design axis (from :func:`stack`). Each design keeps its own step size, rejections,
-    Newton iterations and records; one that is done or has failed is masked (its state
-    does not move) while the others step, and one design's failure does not stop the
-    others. Returns (carry, buffer, n_recorded, failed, batch_iterations), all per design
-    but ``batch_iterations``: the Newton iterations the batched program ran (each batched
-    step costs its slowest design's iterations), for the utilisation
-    ``sum(carry.iterations) / (B * batch_iterations)``.
+    ``run(carry, params, t_stop, t_end, chunk, dt_min, dt_max)`` with every argument
+    stacked on a leading design axis (from :func:`stack`). Each design keeps its own step
+    size, rejections, Newton iterations and records; one that is done or has failed is
+    masked (its state does not move) while the others step, and one design's failure does
+    not stop the others.
+
+    Each design steps in chunks of simulated time, as a single run's host loop calls its
+    driver: to ``t_stop`` (a chunk's end caps the step), then to ``min(t + chunk,
+    t_end)``, and so on, inside the loop, so that no design waits at a chunk's end for the
+    others. The loop returns when every design is done or has failed, or when a design's
+    buffer is full (``capacity`` rows; the caller takes the rows and calls again with the
+    returned carry and ``t_stop``). Returns (carry, buffer, n_recorded, failed, t_stop,
+    batch_iterations), all per design but ``batch_iterations``: the Newton iterations the
+    batched program ran (each batched step costs its slowest design's iterations), for
+    the utilisation ``sum(carry.iterations) / (B * batch_iterations)``.
     """
     step = make_step(topo, terms, integrator)
     start, cond, body = _loop(step, observe, capacity, control, check)
     vcond, vbody, vstart = (jax.vmap(f) for f in (cond, body, start))
 
     @jax.jit
-    def run(carry, params, t_end, dt_min, dt_max):
-        args = (params, t_end, dt_min, dt_max)
-
+    def run(carry, params, t_stop, t_end, chunk, dt_min, dt_max):
         def bbody(bc):
-            c, n = bc
+            c, stop, n = bc
+            args = (params, stop, dt_min, dt_max)
             active = vcond(c, *args)
             new = vbody(c, *args)
             keep = jax.tree.map(lambda x, o: _where(active, x, o), new, c)
+            t, failed = keep[0].state.t, keep[3]
+            # The host loop's test of a chunk's end, then its next chunk.
+            more = (t >= stop - 1e-9) & (t < t_end - 1e-9) & ~failed
+            stop = jnp.where(more, jnp.minimum(t + chunk, t_end), stop)
             # Newton's loop, vmapped, runs until the slowest design converges (done designs
             # included: they step too, and their step is thrown away).
-            return keep, n + jnp.max(new[0].info.iterations)
+            return keep, stop, n + jnp.max(new[0].info.iterations)
 
-        c, n = jax.lax.while_loop(
-            lambda bc: jnp.any(vcond(bc[0], *args)), bbody, (vstart(carry, *args), jnp.asarray(0))
-        )
+        def bcond(bc):
+            c, stop, _ = bc
+            return jnp.any(vcond(c, params, stop, dt_min, dt_max)) & jnp.all(c[2] < capacity)
+
+        c0 = vstart(carry, params, t_stop, dt_min, dt_max)
+        c, stop, n = jax.lax.while_loop(bcond, bbody, (c0, t_stop, jnp.asarray(0)))
         carry, buf, k, failed, _ = c
-        return carry, buf, k, failed, n
+        return carry, buf, k, failed, stop, n
 
     return run
 
