@@ -1,13 +1,13 @@
 """Designs of one structure run side by side in one compiled program.
 
-:func:`run_batch` takes designs that differ only in values (see :mod:`.structure`): each
-design settles and gets its damping on its own (the short host-side stages
-:class:`Settle` and :class:`ModalDamping`), then the stroke of every design, the costly
-part, is stepped by one compiled loop vmapped over the designs
-(:func:`fe.make_batch_driver`). Every design keeps its own step size, rejections, Newton
-iterations and records, and the same chunks of simulated time as :func:`run` takes, so a
-design of a batch takes the steps of its single run. A design that fails is reported with
-the message its single run would raise; the others go on.
+:func:`run_batch` takes designs that differ only in values (see :mod:`.structure`): the
+gravity step of every design, then its stroke, are stepped by one compiled loop vmapped
+over the designs (:func:`fe.make_batch_driver`); between them each design gets its
+damping from its own modal analysis (:class:`ModalDamping`, short, on the host). Every
+design keeps its own step size, rejections, Newton iterations and records, and the same
+chunks of simulated time as :func:`run` takes, so a design of a batch takes the steps of
+its single run (to round-off). A design that fails is reported with the message its
+single run would raise; the others go on.
 """
 
 from __future__ import annotations
@@ -78,22 +78,45 @@ def run_batch(
     ctxs = [RunContext(build(s), options, None, t_end=0.0) for s in specs]
     _check_programs(ctxs)
     errors: list[str | None] = [None] * len(specs)
-    before = (Settle(), ModalDamping())
     for i, ctx in enumerate(ctxs):
-        ctx.stages = before
-        try:
-            for stage in before:
-                stage(ctx)
-        except BristlecrawlerError as exc:
-            errors[i] = f"{exc}"
-    stats = _BatchStroke(ctxs, errors, width, on_progress).run()
+        _guarded(errors, i, lambda ctx=ctx: _settle_start(ctx))
+    batch = _BatchAdvance(ctxs, errors, width, on_progress)
+    settle = batch.run(Settle(), check=False)
+    for i, ctx in enumerate(ctxs):
+        if errors[i] is None:
+            ctx.records.clear()
+            _guarded(errors, i, lambda ctx=ctx: ModalDamping()(ctx))
+    stats = batch.run(Stroke(), check=True)
+    stats["compile_time_s"] += settle["compile_time_s"]
+    stats["settle_wall_time_s"] = settle["wall_time_s"]
     histories = []
     for ctx, err in zip(ctxs, errors, strict=True):
         if err is None:
             ctx.stats["wall_time_s"] = time.perf_counter() - wall0
+            ctx.stats["compile_time_s"] = stats["compile_time_s"]
         histories.append(None if err is not None else history_of(ctx))
     stats["wall_time_s"] = time.perf_counter() - wall0
     return BatchResult(tuple(histories), tuple(errors), stats)
+
+
+def _guarded(errors, i, work) -> None:
+    """``work()``, its error (if any) as design ``i``'s."""
+    try:
+        work()
+    except BristlecrawlerError as exc:
+        errors[i] = f"{exc}"
+
+
+def _settle_start(ctx: RunContext) -> None:
+    """What :class:`Settle` does before it steps: the provisional damping, the first step
+    size and the initial state (its program compiled once for the structure)."""
+    from bristlecrawler import fe
+
+    spec, opt = ctx.spec, ctx.options
+    ctx.damping = fe.Rayleigh.from_ratio(max(spec.damping.ratio, 0.15), opt.settle_omega, "mass")
+    ctx.model = ctx.damping.apply(ctx.crawler.model)
+    ctx.dt = opt.dt0
+    ctx.state = fe.initial_state(ctx.model)
 
 
 def group(specs: Sequence[CrawlerSpec], size: int) -> list[list[int]]:
@@ -171,49 +194,64 @@ def _compiled(run, args):
     return _COMPILED[key], time.perf_counter() - t0
 
 
-class _BatchStroke:
-    """The :class:`Stroke` stage of every design that settled, in one batched program.
-
-    Each design advances in the chunks of simulated time its single run takes (the chunk
-    ends cap the step, so other chunks would give other steps); the compiled loop starts
-    a design's next chunk itself, and returns to the host only when a design's record
-    buffer is full or every design is done."""
+class _BatchAdvance:
+    """A stage of every live design (one that has not failed), in one batched program:
+    the gravity step (:class:`Settle`, without the energy check, to its end at once) or
+    the stroke (:class:`Stroke`, with it, in the chunks of simulated time its single run
+    takes: the chunk ends cap the step, so other chunks would give other steps). The
+    compiled loop starts a design's next chunk itself, and returns to the host only when a
+    design's record buffer is full or every design is done. Both stages run one program:
+    the check is switched per call, not compiled in or out."""
 
     def __init__(self, ctxs, errors, width, on_progress):
         self.ctxs, self.errors, self.width = ctxs, errors, width
         self.on_progress = on_progress
-        self.live = [i for i, e in enumerate(errors) if e is None]
 
-    def run(self) -> dict:
+    def run(self, stage, check: bool) -> dict:
+        t0 = time.perf_counter()
         stats = {"width": self.width, "compile_time_s": 0.0, "stroke_wall_time_s": 0.0}
         stats |= {"batch_iterations": 0, "design_iterations": 0, "utilisation": np.nan}
-        if not self.live:
-            return stats
+        self.live = [i for i, e in enumerate(self.errors) if e is None]
+        if self.live:
+            self._run(stage, check, stats)
+        stats["wall_time_s"] = time.perf_counter() - t0
+        return stats
+
+    def _inputs(self, stage, slots, real, check):
+        ctxs, sv = self.ctxs, [self.ctxs[i].spec.solver for i in slots]
+        dt_min = np.array([s.dt_min for s in sv])
+        dt_max = np.array([s.dt_max if check else min(s.dt_max, 0.01) for s in sv])
+        t = np.array([float(ctxs[i].state.t) for i in slots])
+        t_end = np.where(real, t + np.array([stage.span(ctxs[i]) for i in slots]), t)
+        if isinstance(stage, Stroke):
+            chunk = np.array([max(ctxs[i].spec.actuation.period / 20.0, 0.5) for i in slots])
+        else:
+            chunk = t_end - t
+        return t, t_end, chunk, dt_min, dt_max
+
+    def _run(self, stage, check: bool, stats: dict) -> None:
         from bristlecrawler import fe
 
         ctxs, live = self.ctxs, self.live
-        # Padding slots repeat a live design and stay masked (their chunk is empty).
+        # Padding slots repeat a live design and stay masked (their stage is empty).
         slots = live + [live[-1]] * (self.width - len(live))
         real = np.array([j < len(live) for j in range(self.width)])
-        for i in live:
-            ctx = ctxs[i]
-            ctx.records.append(jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params)))
+        if check:
+            for i in live:
+                ctx = ctxs[i]
+                ctx.records.append(
+                    jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params))
+                )
         run = fe.make_batch_driver(*ctxs[live[0]].driver_args(True))
         carry = fe.stack([fe.driver_start(ctxs[i].state, ctxs[i].dt) for i in slots])
         params = fe.stack([ctxs[i].model.params for i in slots])
-        sv = [ctxs[i].spec.solver for i in slots]
-        dt_min, dt_max = (np.array([getattr(s, k) for s in sv]) for k in ("dt_min", "dt_max"))
-        t = np.array([float(ctxs[i].state.t) for i in slots])
-        t_end = t + np.array([Stroke().span(ctxs[i]) for i in slots])
-        chunk = np.array([max(ctxs[i].spec.actuation.period / 20.0, 0.5) for i in slots])
-        t_end = np.where(real, t_end, t)  # padding slots get no chunk
+        t, t_end, chunk, dt_min, dt_max = self._inputs(stage, slots, real, check)
         t_stop = np.minimum(t + chunk, t_end)
-        it0 = np.array([ctxs[i].iterations for i in slots])
-        rej0 = np.array([ctxs[i].rejected for i in slots])
+        checked = np.full(self.width, check)
         active = real.copy()
         wall0, n_batch = time.perf_counter(), 0
         while active.any():
-            args = _strong((carry, params, t_stop, t_end, chunk, dt_min, dt_max))
+            args = _strong((carry, params, t_stop, t_end, chunk, dt_min, dt_max, checked))
             program, seconds = _compiled(run, args)
             stats["compile_time_s"] += seconds
             carry, buf, k, failed, t_stop, n = program(*args)
@@ -222,41 +260,42 @@ class _BatchStroke:
             t = np.asarray(carry.state.t)
             for j in np.flatnonzero(active):
                 ctx = ctxs[slots[j]]
-                ctx.records.extend(jax.tree.map(lambda b, j=j: b[j], buf), k[j])
+                if check:
+                    ctx.records.extend(jax.tree.map(lambda b, j=j: b[j], buf), k[j])
                 if failed[j]:
-                    self._fail(slots[j], jax.tree.map(lambda x, j=j: x[j], carry))
+                    self._fail(slots[j], stage, jax.tree.map(lambda x, j=j: x[j], carry))
                     active[j] = False
                 elif t[j] >= t_end[j] - 1e-9:
                     active[j] = False
             t_stop = np.where(active, t_stop, t)
-            self._report(t, t_end, active)
-        stroke_wall = time.perf_counter() - wall0
+            self._report(stage, t, t_end, active)
+        wall = time.perf_counter() - wall0
         its, rej = np.asarray(carry.iterations), np.asarray(carry.rejected)
         for j in np.flatnonzero(real):
             ctx = ctxs[slots[j]]
-            ctx.state = jax.tree.map(lambda x, j=j: x[j], carry.state)
+            if self.errors[slots[j]] is None:
+                ctx.state = jax.tree.map(lambda x, j=j: x[j], carry.state)
             ctx.dt = float(carry.dt[j])
-            ctx.iterations = int(it0[j] + its[j])
-            ctx.rejected = int(rej0[j] + rej[j])
-            ctx.stats["stroke_wall_time_s"] = stroke_wall
-            ctx.stats["stroke_newton_iterations"] = int(its[j])
-            ctx.stats["batch_width"] = self.width
+            ctx.iterations += int(its[j])
+            ctx.rejected += int(rej[j])
+            if check:
+                ctx.stats["stroke_wall_time_s"] = wall
+                ctx.stats["stroke_newton_iterations"] = int(its[j])
+                ctx.stats["batch_width"] = self.width
         own = int(its[real].sum())
-        stats |= {"stroke_wall_time_s": stroke_wall, "batch_iterations": n_batch}
+        stats |= {"stroke_wall_time_s": wall, "batch_iterations": n_batch}
         stats |= {"design_iterations": own, "utilisation": own / max(self.width * n_batch, 1)}
-        for i in live:
-            ctxs[i].stats["compile_time_s"] = stats["compile_time_s"]
-        return stats
 
-    def _fail(self, i, carry) -> None:
+    def _fail(self, i, stage, carry) -> None:
         ctx = self.ctxs[i]
         ctx.state = carry.state
-        self.errors[i] = f"stroke near t = {float(carry.state.t):.4g} s: " + ctx._why(carry)
+        where = f"{stage.name} near t = {float(carry.state.t):.4g} s: "
+        self.errors[i] = where + ctx._why(carry)
 
-    def _report(self, t, t_end, active) -> None:
+    def _report(self, stage, t, t_end, active) -> None:
         if self.on_progress is None:
             return
-        done = sum(len(self.ctxs[i].records) - 1 for i in self.live)
+        done = sum(max(len(self.ctxs[i].records) - 1, 0) for i in self.live)
         its = sum(self.ctxs[i].iterations for i in self.live)
         now = float(t[active].min()) if active.any() else float(t_end.max())
-        self.on_progress(Progress("stroke", now, float(t_end.max()), done, its))
+        self.on_progress(Progress(stage.name, now, float(t_end.max()), done, its))

@@ -102,7 +102,7 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
         eps = 1e-12 * jnp.maximum(1.0, jnp.abs(t_end))
         return (carry.state.t < t_end - eps) & (k < capacity) & ~failed
 
-    def body(c, params, t_end, dt_min, dt_max):
+    def body(c, params, t_end, dt_min, dt_max, checked=True):
         carry, buf, k, _, last = c
         # A design of a vmapped batch that is done still runs this body (its result is
         # thrown away): a step of its own size keeps its Newton iterations few and finite,
@@ -113,7 +113,9 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
         rec = observe(new, params)
         easy = info.iterations <= control.easy_iterations
         if check is not None:
-            ratio = check(last, rec)
+            # ``checked`` False (a batch's stage without the check) gives the loop of
+            # check=None: no step is refused, and the growth test is the plain one.
+            ratio = jnp.where(checked, check(last, rec), 0.0)
             refused = (info.status == SUCCESS) & ~(ratio <= 1.0)
             info = dataclasses.replace(info, status=jnp.where(refused, STEP_ERROR, info.status))
             easy = easy & (ratio * control.grow**3 <= 1.0)
@@ -151,10 +153,12 @@ def make_batch_driver(
     check=None,
 ):
     """:func:`make_driver` for a batch of designs of one structure, in one compiled loop:
-    ``run(carry, params, t_stop, t_end, chunk, dt_min, dt_max)`` with every argument
-    stacked on a leading design axis (from :func:`stack`). Each design keeps its own step
-    size, rejections, Newton iterations and records; one that is done or has failed is
-    masked (its state does not move) while the others step, and one design's failure does
+    ``run(carry, params, t_stop, t_end, chunk, dt_min, dt_max, checked)`` with every
+    argument stacked on a leading design axis (from :func:`stack`); ``checked`` (bool)
+    switches the ``check`` of a design off (its steps as with ``check=None``), so that a
+    stage without the check (the gravity step) runs in the same program. Each design keeps
+    its own step size, rejections, Newton iterations and records; one that is done or has
+    failed is masked (its state does not move) while the others step, and one design's failure does
     not stop the others.
 
     Each design steps in chunks of simulated time, as a single run's host loop calls its
@@ -172,12 +176,12 @@ def make_batch_driver(
     vcond, vbody, vstart = (jax.vmap(f) for f in (cond, body, start))
 
     @jax.jit
-    def run(carry, params, t_stop, t_end, chunk, dt_min, dt_max):
+    def run(carry, params, t_stop, t_end, chunk, dt_min, dt_max, checked):
         def bbody(bc):
             c, stop, n = bc
             args = (params, stop, dt_min, dt_max)
             active = vcond(c, *args)
-            new = vbody(c, *args)
+            new = vbody(c, *args, checked)
             keep = jax.tree.map(lambda x, o: _where(active, x, o), new, c)
             t, failed = keep[0].state.t, keep[3]
             # The host loop's test of a chunk's end, then its next chunk.
