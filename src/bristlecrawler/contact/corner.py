@@ -60,11 +60,15 @@ from bristlecrawler.contact.profile import _chain
 from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
 
+_host_chain = jax.jit(_chain)
+
 
 def convex_corners(substrate) -> tuple[np.ndarray, np.ndarray, float]:
     """Convex corners of one period of ``substrate``: centres (k, 2) mm, fillet radii (k,)
     mm, and the period (mm). Straight vertices and concave corners are not returned."""
-    c = _chain(substrate.profile())
+    # One compiled program, not the chain's hundreds of eager operations: a batch builds
+    # this for every design (each eager operation is a dispatch, on a GPU a launch).
+    c = jax.device_get(_host_chain(substrate.profile()))
     turn = np.asarray(c.turn)
     orient = np.asarray(c.orient)
     keep = (turn != 0) & (orient > 0)

@@ -29,6 +29,7 @@ from bristlecrawler.crawler.runner import (
     RunOptions,
     Settle,
     Stroke,
+    compile_programs,
     history_of,
 )
 from bristlecrawler.crawler.spec import CrawlerSpec
@@ -44,8 +45,13 @@ class BatchResult:
         histories: each design's :class:`CrawlerHistory`, or None where it failed.
         errors: None, or the one-line reason a design failed.
         stats: of the batch: ``width`` (designs in the compiled program), ``compile_time_s``
-            (the batched program's compilation or cache load in this call; 0 when this
-            process had it already), ``stroke_wall_time_s``, ``wall_time_s``,
+            (compilation or cache load in this call of the batched program and of the
+            programs each design calls on its own; 0 for a program this process had
+            already), ``stroke_wall_time_s``, ``wall_time_s``,
+            ``prepare_wall_time_s`` (building the designs and their initial states),
+            ``settle_wall_time_s`` (the batched gravity step), ``modal_wall_time_s``
+            (the designs' modal analyses), ``histories_wall_time_s`` (their records
+            made into histories), compilation left out of each,
             ``batch_iterations`` (Newton iterations the batched program ran),
             ``design_iterations`` (the designs' own stroke iterations, summed) and
             ``utilisation`` = design_iterations / (width x batch_iterations).
@@ -78,45 +84,62 @@ def run_batch(
     ctxs = [RunContext(build(s), options, None, t_end=0.0) for s in specs]
     _check_programs(ctxs)
     errors: list[str | None] = [None] * len(specs)
+    compiling = 0.0
     for i, ctx in enumerate(ctxs):
-        _guarded(errors, i, lambda ctx=ctx: _settle_start(ctx))
+        # The first design compiles the programs that every design calls on its own.
+        seconds = _guarded(errors, i, lambda ctx=ctx, first=i == 0: _settle_start(ctx, first))
+        compiling += seconds or 0.0
+    stage_wall = time.perf_counter()
     batch = _BatchAdvance(ctxs, errors, width, on_progress)
     settle = batch.run(Settle(), check=False)
+    modal = time.perf_counter()
     for i, ctx in enumerate(ctxs):
         if errors[i] is None:
             ctx.records.clear()
             _guarded(errors, i, lambda ctx=ctx: ModalDamping()(ctx))
+    modal = time.perf_counter() - modal
     stats = batch.run(Stroke(), check=True)
-    stats["compile_time_s"] += settle["compile_time_s"]
-    stats["settle_wall_time_s"] = settle["wall_time_s"]
+    stats["compile_time_s"] += settle["compile_time_s"] + compiling
+    stats["settle_wall_time_s"] = settle["wall_time_s"] - settle["compile_time_s"]
+    stats["modal_wall_time_s"] = modal
+    stats["prepare_wall_time_s"] = stage_wall - wall0 - compiling
     histories = []
+    t_records = time.perf_counter()
     for ctx, err in zip(ctxs, errors, strict=True):
         if err is None:
             ctx.stats["wall_time_s"] = time.perf_counter() - wall0
             ctx.stats["compile_time_s"] = stats["compile_time_s"]
         histories.append(None if err is not None else history_of(ctx))
+    stats["histories_wall_time_s"] = time.perf_counter() - t_records
     stats["wall_time_s"] = time.perf_counter() - wall0
     return BatchResult(tuple(histories), tuple(errors), stats)
 
 
-def _guarded(errors, i, work) -> None:
-    """``work()``, its error (if any) as design ``i``'s."""
+def _guarded(errors, i, work):
+    """``work()``, or None with its error as design ``i``'s."""
     try:
-        work()
+        return work()
     except BristlecrawlerError as exc:
         errors[i] = f"{exc}"
+        return None
 
 
-def _settle_start(ctx: RunContext) -> None:
+def _settle_start(ctx: RunContext, first: bool) -> float:
     """What :class:`Settle` does before it steps: the provisional damping, the first step
-    size and the initial state (its program compiled once for the structure)."""
+    size and the initial state; for the ``first`` design also the compilation of the
+    programs every design calls on its own (initial state, observer, modal analysis).
+    Returns the seconds spent compiling."""
     from bristlecrawler import fe
 
     spec, opt = ctx.spec, ctx.options
     ctx.damping = fe.Rayleigh.from_ratio(max(spec.damping.ratio, 0.15), opt.settle_omega, "mass")
     ctx.model = ctx.damping.apply(ctx.crawler.model)
     ctx.dt = opt.dt0
+    if first:
+        ctx.state, seconds = compile_programs(ctx, step=False, modal=True)
+        return seconds
     ctx.state = fe.initial_state(ctx.model)
+    return 0.0
 
 
 def group(specs: Sequence[CrawlerSpec], size: int) -> list[list[int]]:

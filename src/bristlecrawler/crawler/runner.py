@@ -230,13 +230,27 @@ class Settle:
 
 def _prepare(ctx: RunContext):
     """The run's initial state, with the programs of its stages compiled (or loaded from
-    the persistent cache) at once, each in a thread: the initial state's, the step's, the
-    observer's and, when a :class:`ModalDamping` stage follows, the modal analysis's.
-    XLA compiles outside Python's lock, so the programs compile side by side
+    the persistent cache) at once by :func:`compile_programs` when the run uses the host
+    loop (the compiled loop is one program: nothing to compile beside it). The wall time
+    goes to ``stats["compile_time_s"]``."""
+    from bristlecrawler import fe
+
+    if not ctx.host:
+        ctx.stats["compile_time_s"] = math.nan
+        return fe.initial_state(ctx.model)
+    modal = any(isinstance(s, ModalDamping) for s in ctx.stages)
+    state, ctx.stats["compile_time_s"] = compile_programs(ctx, step=True, modal=modal)
+    return state
+
+
+def compile_programs(ctx: RunContext, *, step: bool, modal: bool):
+    """(The initial state of ``ctx.model``, seconds), with the programs a run calls
+    compiled (or loaded from the persistent cache) at once, each in a thread: the initial
+    state's, the observer's, the dynamic step's (``step``) and the modal analysis's
+    (``modal``). XLA compiles outside Python's lock, so the programs compile side by side
     (``RunOptions.compile_threads``; ``bench/bench_crawler.py --compile-threads``
     compares). The programs other than the initial state's are called on a state of
-    zeros of the same shapes and types, so the stages find them compiled. The wall time
-    goes to ``stats["compile_time_s"]``."""
+    zeros of the same shapes and types, so that the run finds them compiled."""
     from concurrent.futures import ThreadPoolExecutor
 
     from bristlecrawler import fe
@@ -246,9 +260,6 @@ def _prepare(ctx: RunContext):
     from bristlecrawler.fe.terms import init_histories
 
     model = ctx.model
-    if not ctx.host:
-        ctx.stats["compile_time_s"] = math.nan
-        return fe.initial_state(model)
     t0 = time.perf_counter()
     topo, params = model.topology, model.params
     zeros = jnp.zeros((topo.n_nodes, 3))
@@ -260,18 +271,16 @@ def _prepare(ctx: RunContext):
         zeros,
         init_histories(model),
     )
-    # Made here, called in the threads: two threads must not build one program twice.
-    step = fe.make_step(
-        topo, model.terms, ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
-    )
     observe = ctx.crawler.observer()
-    dt = jnp.asarray(float(ctx.options.dt0) * 1e-3)
-    jobs = [
-        lambda: fe.initial_state(model),
-        lambda: step(like, params, dt),
-        lambda: observe(like, params),
-    ]
-    if any(isinstance(s, ModalDamping) for s in ctx.stages):
+    jobs = [lambda: fe.initial_state(model), lambda: observe(like, params)]
+    if step:
+        # Made here, called in a thread: two threads must not build one program twice.
+        run_step = fe.make_step(
+            topo, model.terms, ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
+        )
+        dt = jnp.asarray(float(ctx.options.dt0) * 1e-3)
+        jobs.append(lambda: run_step(like, params, dt))
+    if modal:
         # The arguments' types of ModalDamping's fe.modes call.
         jobs += [
             lambda: tangent(model, like.q, 0.0, 1.0, like.history),
@@ -280,8 +289,7 @@ def _prepare(ctx: RunContext):
     with ThreadPoolExecutor(min(len(jobs), ctx.options.compile_threads)) as pool:
         futures = [pool.submit(job) for job in jobs]
         done = [jax.block_until_ready(f.result()) for f in futures]
-    ctx.stats["compile_time_s"] = time.perf_counter() - t0
-    return done[0]
+    return done[0], time.perf_counter() - t0
 
 
 @dataclass(frozen=True)
