@@ -73,7 +73,8 @@ def one_width(width: int, a, deadline: float, device) -> None:
         peak = (device.memory_stats() or {}).get("peak_bytes_in_use", float("nan")) / 2**30
         print(
             f"{width:6d} stopped after {time.perf_counter() - t0:.1f} s in the {p.stage}, "
-            f"slowest design at t = {p.t:.3f} of {p.t_end:.3f} s; peak {peak:.2f} GiB",
+            f"slowest design at t = {p.t:.3f} of {p.t_end:.3f} s, {p.iterations} Newton "
+            f"iterations of the designs; peak {peak:.2f} GiB",
             flush=True,
         )
         return
@@ -89,6 +90,7 @@ def one_width(width: int, a, deadline: float, device) -> None:
     print(
         f"{width:6d} {s['compile_time_s']:10.1f} {s['settle_wall_time_s']:9.1f} "
         f"{s['stroke_wall_time_s']:9.1f} {wall:8.1f} {rate:12.1f} {s['utilisation']:11.2f} "
+        f"{s['step_utilisation']:10.2f} "
         f"{failed:7d} {peak:9.2f} {1e3 * s['stroke_wall_time_s'] / s['batch_iterations']:8.2f}"
         f"   advance {adv.min():.2f}-{adv.max():.2f} mm",
         flush=True,
@@ -134,7 +136,8 @@ def main() -> None:
     )
     head = (
         f"{'B':>6} {'compile s':>10} {'settle s':>9} {'stroke s':>9} {'wall s':>8} "
-        f"{'designs/min':>12} {'utilisation':>11} {'failed':>7} {'peak GiB':>9} {'ms/it':>8}"
+        f"{'designs/min':>12} {'utilisation':>11} {'step util.':>10} {'failed':>7} "
+        f"{'peak GiB':>9} {'ms/it':>8}"
     )
     print(head + "\n" + "-" * len(head), flush=True)
     if len(a.budgets) != len(a.widths):

@@ -64,7 +64,7 @@ def main() -> None:
         t0, its = time.perf_counter(), 0
         c = args[0]
         while True:  # returns to the host when the buffers fill
-            c, _, _, failed, _, n = program(c, *args[1:])
+            c, _, _, failed, _, n, _ = program(c, *args[1:])
             its += int(n)
             if float(np.min(np.asarray(c.state.t))) >= a.span - 1e-9 or bool(np.any(failed)):
                 break

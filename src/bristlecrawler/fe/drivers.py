@@ -167,9 +167,10 @@ def make_batch_driver(
     others. The loop returns when every design is done or has failed, or when a design's
     buffer is full (``capacity`` rows; the caller takes the rows and calls again with the
     returned carry and ``t_stop``). Returns (carry, buffer, n_recorded, failed, t_stop,
-    batch_iterations), all per design but ``batch_iterations``: the Newton iterations the
-    batched program ran (each batched step costs its slowest design's iterations), for
-    the utilisation ``sum(carry.iterations) / (B * batch_iterations)``.
+    batch_iterations, batch_steps), all per design but the last two: the Newton
+    iterations the batched program ran (each batched step costs its slowest design's
+    iterations), for the utilisation ``sum(carry.iterations) / (B * batch_iterations)``,
+    and its steps (each design attempts one step in each).
     """
     step = make_step(topo, terms, integrator)
     start, cond, body = _loop(step, observe, capacity, control, check)
@@ -189,16 +190,17 @@ def make_batch_driver(
             stop = jnp.where(more, jnp.minimum(t + chunk, t_end), stop)
             # Newton's loop, vmapped, runs until the slowest design converges (done designs
             # included: they step too, and their step is thrown away).
-            return keep, stop, n + jnp.max(new[0].info.iterations)
+            return keep, stop, n + jnp.stack([jnp.max(new[0].info.iterations), 1])
 
         def bcond(bc):
             c, stop, _ = bc
             return jnp.any(vcond(c, params, stop, dt_min, dt_max)) & jnp.all(c[2] < capacity)
 
         c0 = vstart(carry, params, t_stop, dt_min, dt_max)
-        c, stop, n = jax.lax.while_loop(bcond, bbody, (c0, t_stop, jnp.asarray(0)))
+        n0 = jnp.zeros(2, jnp.asarray(0).dtype)
+        c, stop, n = jax.lax.while_loop(bcond, bbody, (c0, t_stop, n0))
         carry, buf, k, failed, _ = c
-        return carry, buf, k, failed, stop, n
+        return carry, buf, k, failed, stop, n[0], n[1]
 
     return run
 
