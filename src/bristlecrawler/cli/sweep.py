@@ -46,7 +46,7 @@ def sweep_cmd(
         typer.Option(
             "--batch",
             help="FE designs of one structure per compiled batch (vmapped) "
-            "[default: none on a CPU, up to 64 on a GPU]",
+            "[default: none on a CPU, up to 1024 on a GPU]",
         ),
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,

@@ -180,32 +180,31 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
     narrower than a correction); with the statuses frozen the first iterations solve a
     smooth problem, and the free ones start next to the solution when the statuses hold.
     """
-    o = options
-    rtol, atol, max_iter, xtol = o.rtol, o.atol, o.max_iter, o.xtol
-    stall, freeze, max_move = o.stall, o.freeze, o.max_correction
-    if predict is None:
-        tc0 = tc1 = dt = jnp.zeros(())
-    else:
-        tc0, tc1, dt = predict
+    parts = newton_parts(residual, q0, topo, options, xscale=xscale, predict=predict)
+    return parts.result(jax.lax.while_loop(parts.cond, parts.body, parts.init))
 
-    def res_t(q, tc, fz):
-        if predict is None:
-            return residual(q) if freeze == 0 else residual(q, freeze=fz)
-        return residual(q, tc) if freeze == 0 else residual(q, tc, fz)
 
-    def first(it):
-        return (it == 0) if predict is not None else jnp.asarray(False)
+class NewtonParts(NamedTuple):
+    """:func:`newton` as the parts of its loop: ``init`` (the first :class:`_Iterate`),
+    ``cond(c)`` (iterate again?), ``body(c)`` (one iteration) and ``result(c) -> (q,
+    iterations, |R|, F, status)``. A loop that interleaves Newton with other work (one
+    iteration per design of a batch, each at its own point of its own solve) runs them
+    itself; :func:`newton` is ``result(while_loop(cond, body, init))``."""
 
-    if predict is None:
-        R0, F0 = res_t(q0, tc0, jnp.asarray(freeze > 0))
-    else:
-        # Iteration 0 (the predictor) always runs and takes the residual at q0 from its own
-        # linearisation: no separate evaluation (one residual less per step).
-        R0 = jnp.zeros_like(q0)
-        F0 = jnp.ones((), q0.dtype)
-    if math.isfinite(max_move):
-        translation = jnp.asarray(np.asarray(topo.arrays()["red"])[:, 1] < 2)
+    init: Any
+    cond: Any
+    body: Any
+    result: Any
 
+
+class _Tests(NamedTuple):
+    converged: Any
+    stalled: Any
+    done: Any
+
+
+def _tests(q0, xscale, o: NewtonOptions) -> _Tests:
+    """Newton's stopping tests (see :func:`newton`)."""
     # The stalled-iterate test must not accept a run-away iterate, whose corrections are
     # also small relative to |q| (full Newton steps on arctan(q - 3) reach |q| ~ 1e292 and
     # were reported converged): it only counts within 1e6 times the problem's scale.
@@ -213,20 +212,51 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
 
     def converged(q, R, F, dx):
         qn = jnp.linalg.norm(q)
-        still = (dx <= xtol * jnp.maximum(qn, xscale)) & (qn <= q_bound)
-        return (jnp.linalg.norm(R) <= rtol * F + atol) | still
+        still = (dx <= o.xtol * jnp.maximum(qn, xscale)) & (qn <= q_bound)
+        return (jnp.linalg.norm(R) <= o.rtol * F + o.atol) | still
 
     def stalled(it, it_ref):
-        return (it - it_ref >= stall) if stall > 0 else jnp.asarray(False)
+        return (it - it_ref >= o.stall) if o.stall > 0 else jnp.asarray(False)
 
     def done(q, R, F, dx, fz):
         return converged(q, R, F, dx) & ~fz
 
+    return _Tests(converged, stalled, done)
+
+
+def newton_parts(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=None):
+    """The parts of :func:`newton`'s loop (:class:`NewtonParts`), same arguments."""
+    o = options
+    if predict is None:
+        tc0 = tc1 = dt = jnp.zeros(())
+    else:
+        tc0, tc1, dt = predict
+
+    def res_t(q, tc, fz):
+        if predict is None:
+            return residual(q) if o.freeze == 0 else residual(q, freeze=fz)
+        return residual(q, tc) if o.freeze == 0 else residual(q, tc, fz)
+
+    def first(it):
+        return (it == 0) if predict is not None else jnp.asarray(False)
+
+    if predict is None:
+        R0, F0 = res_t(q0, tc0, jnp.asarray(o.freeze > 0))
+    else:
+        # Iteration 0 (the predictor) always runs and takes the residual at q0 from its own
+        # linearisation: no separate evaluation (one residual less per step).
+        R0 = jnp.zeros_like(q0)
+        F0 = jnp.ones((), q0.dtype)
+    translation = None
+    if math.isfinite(o.max_correction):
+        translation = jnp.asarray(np.asarray(topo.arrays()["red"])[:, 1] < 2)
+    tests = _tests(q0, xscale, o)
+
     def cond(c):
         q, R, F, it, dx, _, it_ref, fz = c
         finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
-        solve = ~done(q, R, F, dx, fz) & finite & ~stalled(it, it_ref)
-        return (it < max_iter) & (first(it) | solve)
+        solve = ~tests.done(q, R, F, dx, fz) & finite & ~tests.stalled(it, it_ref)
+        return (it < o.max_iter) & (first(it) | solve)
 
     def body(c):
         q, R, F, it, _, ref, it_ref, fz = c
@@ -241,41 +271,47 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
             dq = -banded.solve(J, R, topo)
             dq = jnp.where(pred & ~jnp.all(jnp.isfinite(dq)), 0.0, dq)
         s0 = jnp.asarray(1.0)
-        if math.isfinite(max_move):  # static
+        if translation is not None:  # static
             move = jnp.max(jnp.where(translation, jnp.abs(dq), 0.0), initial=0.0)
-            s0 = jnp.where(pred | (move <= max_move), 1.0, max_move / move)
+            s0 = jnp.where(pred | (move <= o.max_correction), 1.0, o.max_correction / move)
         s, Rn, Fn = _line_search(lambda x: res_t(x, tc1, fz), q, dq, R, F, s0, pred, o)
         rn = jnp.linalg.norm(Rn)
-        if stall > 0:  # static: no bookkeeping in the loop when off
+        if o.stall > 0:  # static: no bookkeeping in the loop when off
             halved = rn <= 0.5 * ref
             ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
         # After the predictor: the corrections start afresh (no stalled-iterate test on
         # the predictor's move; the stall count starts at its residual).
         dx = jnp.where(pred, jnp.inf, jnp.linalg.norm(s * dq))
         ref, it_ref = jnp.where(pred, rn, ref), jnp.where(pred, it + 1, it_ref)
-        qn = q + s * dq
-        if freeze > 0:  # static
-            # Unfreeze once the frozen problem is solved (not on the predictor's move)
-            # or after `freeze` iterations, and evaluate the iterate with the free law.
-            solved = ~pred & converged(qn, Rn, Fn, dx)
-            unfreeze = fz & (solved | (it + 1 >= freeze))
+        nxt = _Iterate(q + s * dq, Rn, Fn, it + 1, dx, ref, it_ref, fz)
+        if o.freeze > 0:  # static
+            nxt = _unfreeze(nxt, pred, lambda q: res_t(q, tc1, jnp.asarray(False)), tests, o)
+        return nxt
 
-            def free(_):
-                return res_t(qn, tc1, jnp.asarray(False))
-
-            Rn, Fn = jax.lax.cond(unfreeze, free, lambda _: (Rn, Fn), None)
-            # The free residual starts afresh: no stalled-iterate test on this move.
-            dx = jnp.where(unfreeze, jnp.inf, dx)
-            ref = jnp.where(unfreeze, jnp.linalg.norm(Rn), ref)
-            it_ref = jnp.where(unfreeze, it + 1, it_ref)
-            fz = fz & ~unfreeze
-        return _Iterate(qn, Rn, Fn, it + 1, dx, ref, it_ref, fz)
+    def result(c):
+        q, R, F, it, dx, _, it_ref, fz = c
+        finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
+        failed = jnp.where(tests.stalled(it, it_ref), STALLED, MAX_ITERATIONS)
+        done = tests.done(q, R, F, dx, fz)
+        status = jnp.where(~finite, NONFINITE, jnp.where(done, SUCCESS, failed))
+        return q, it, jnp.linalg.norm(R), F, status
 
     zero = jnp.asarray(0)
-    fz0 = jnp.asarray(freeze > 0)
+    fz0 = jnp.asarray(o.freeze > 0)
     init = _Iterate(q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero, fz0)
-    q, R, F, it, dx, _, it_ref, fz = jax.lax.while_loop(cond, body, init)
-    finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
-    failed = jnp.where(stalled(it, it_ref), STALLED, MAX_ITERATIONS)
-    status = jnp.where(~finite, NONFINITE, jnp.where(done(q, R, F, dx, fz), SUCCESS, failed))
-    return q, it, jnp.linalg.norm(R), F, status
+    return NewtonParts(init, cond, body, result)
+
+
+def _unfreeze(c: _Iterate, pred, free_residual, tests: _Tests, o: NewtonOptions) -> _Iterate:
+    """Unfreeze the contact statuses once the frozen problem is solved (not on the
+    predictor's move) or after ``o.freeze`` iterations, and evaluate the iterate with the
+    free law (``free_residual``); the free residual starts afresh: no stalled-iterate
+    test on this move."""
+    q, Rn, Fn, it, dx, ref, it_ref, fz = c
+    solved = ~pred & tests.converged(q, Rn, Fn, dx)
+    unfreeze = fz & (solved | (it >= o.freeze))
+    Rn, Fn = jax.lax.cond(unfreeze, lambda _: free_residual(q), lambda _: (Rn, Fn), None)
+    dx = jnp.where(unfreeze, jnp.inf, dx)
+    ref = jnp.where(unfreeze, jnp.linalg.norm(Rn), ref)
+    it_ref = jnp.where(unfreeze, it, it_ref)
+    return _Iterate(q, Rn, Fn, it, dx, ref, it_ref, fz & ~unfreeze)
