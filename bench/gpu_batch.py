@@ -90,7 +90,6 @@ def one_width(width: int, a, deadline: float, device) -> None:
     print(
         f"{width:6d} {s['compile_time_s']:10.1f} {s['settle_wall_time_s']:9.1f} "
         f"{s['stroke_wall_time_s']:9.1f} {wall:8.1f} {rate:12.1f} {s['utilisation']:11.2f} "
-        f"{s['step_utilisation']:10.2f} "
         f"{failed:7d} {peak:9.2f} {1e3 * s['stroke_wall_time_s'] / s['batch_iterations']:8.2f}"
         f"   advance {adv.min():.2f}-{adv.max():.2f} mm",
         flush=True,
@@ -136,7 +135,7 @@ def main() -> None:
     )
     head = (
         f"{'B':>6} {'compile s':>10} {'settle s':>9} {'stroke s':>9} {'wall s':>8} "
-        f"{'designs/min':>12} {'utilisation':>11} {'step util.':>10} {'failed':>7} "
+        f"{'designs/min':>12} {'utilisation':>11} {'failed':>7} "
         f"{'peak GiB':>9} {'ms/it':>8}"
     )
     print(head + "\n" + "-" * len(head), flush=True)

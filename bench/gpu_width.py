@@ -1,7 +1,7 @@
 """Cost of one batched Newton iteration by batch width (is the batched program bound by
 launches or by arithmetic?).
 
-B copies of the ``paper`` design (so every design takes the same steps: utilisation 1)
+B copies of the ``paper`` design (so every design takes the same iterations: utilisation 1)
 fall under gravity from the reference state for ``--span`` s with the batched driver
 (:func:`fe.make_batch_driver`, the program of :func:`crawler.run_batch`). For each width:
 the compilation, then the run's wall time over its batched Newton iterations. If the
@@ -45,7 +45,7 @@ def main() -> None:
     ctx.damping = fe.Rayleigh.from_ratio(0.15, ctx.options.settle_omega, "mass")
     ctx.model = ctx.damping.apply(ctx.crawler.model)
     state = fe.initial_state(ctx.model)
-    run = fe.make_batch_driver(*ctx.driver_args(True))
+    driver = fe.make_batch_driver(*ctx.driver_args(True))
     print(f"{device.device_kind}; JAX {jax.__version__}; paper, gravity step of {a.span} s")
     head = f"{'B':>6} {'compile s':>10} {'run s':>8} {'iterations':>11} {'ms/it':>8}"
     head += f" {'us/design-it':>13}"
@@ -55,16 +55,17 @@ def main() -> None:
         one = fe.driver_start(state, ctx.options.dt0)
         carry, params = tile(one, width), tile(ctx.model.params, width)
         vec = np.full(width, 1.0)
-        args = (carry, params, a.span * vec, a.span * vec, a.span * vec)
+        args = (carry, driver.pending(carry, params), params, a.span * vec, a.span * vec)
+        args += (a.span * vec,)
         args += (spec.solver.dt_min * vec, min(spec.solver.dt_max, 0.01) * vec)
         args += (np.zeros(width, bool),)
         args = jax.tree.map(lambda x: jax.device_put(np.ascontiguousarray(x)), args)
-        program = run.lower(*args).compile()
+        program = driver.run.lower(*args).compile()
         compile_s = time.perf_counter() - t0
         t0, its = time.perf_counter(), 0
-        c = args[0]
+        c, pend = args[:2]
         while True:  # returns to the host when the buffers fill
-            c, _, _, failed, _, n, _ = program(c, *args[1:])
+            c, pend, _, _, failed, _, n = program(c, pend, *args[2:])
             its += int(n)
             if float(np.min(np.asarray(c.state.t))) >= a.span - 1e-9 or bool(np.any(failed)):
                 break

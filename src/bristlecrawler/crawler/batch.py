@@ -52,13 +52,10 @@ class BatchResult:
             ``settle_wall_time_s`` (the batched gravity step), ``modal_wall_time_s``
             (the designs' modal analyses), ``histories_wall_time_s`` (their records
             made into histories), compilation left out of each,
-            ``batch_iterations`` (Newton iterations the batched program ran),
-            ``design_iterations`` (the designs' own stroke iterations, summed),
-            ``utilisation`` = design_iterations / (width x batch_iterations), and the same
-            for the steps: ``batch_steps`` (steps of the batched loop), ``design_steps``
-            (the designs' own attempted steps, summed) and ``step_utilisation`` =
-            design_steps / (width x batch_steps). utilisation / step_utilisation is the
-            part lost within a step, to the slowest design's Newton iterations.
+            ``batch_iterations`` (iterations of the batched loop: one Newton iteration
+            of every design in each), ``design_iterations`` (the designs' own stroke
+            iterations, summed) and ``utilisation`` = design_iterations / (width x
+            batch_iterations).
     """
 
     histories: tuple[CrawlerHistory | None, ...]
@@ -238,7 +235,6 @@ class _BatchAdvance:
         t0 = time.perf_counter()
         stats = {"width": self.width, "compile_time_s": 0.0, "stroke_wall_time_s": 0.0}
         stats |= {"batch_iterations": 0, "design_iterations": 0, "utilisation": np.nan}
-        stats |= {"batch_steps": 0, "design_steps": 0, "step_utilisation": np.nan}
         self.live = [i for i, e in enumerate(self.errors) if e is None]
         if self.live:
             self._run(stage, check, stats)
@@ -270,21 +266,23 @@ class _BatchAdvance:
                 ctx.records.append(
                     jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params))
                 )
-        run = fe.make_batch_driver(*ctxs[live[0]].driver_args(True))
+        driver = fe.make_batch_driver(*ctxs[live[0]].driver_args(True))
         carry = fe.stack([fe.driver_start(ctxs[i].state, ctxs[i].dt) for i in slots])
         params = fe.stack([ctxs[i].model.params for i in slots])
+        pending = driver.pending(carry, params)
         t, t_end, chunk, dt_min, dt_max = self._inputs(stage, slots, real, check)
         t_stop = np.minimum(t + chunk, t_end)
         checked = np.full(self.width, check)
         active = real.copy()
-        wall0, n_batch, n_steps = time.perf_counter(), 0, 0
+        wall0, n_batch = time.perf_counter(), 0
         while active.any():
-            args = _strong((carry, params, t_stop, t_end, chunk, dt_min, dt_max, checked))
-            program, seconds = _compiled(run, args)
+            args = (carry, pending, params, t_stop, t_end, chunk, dt_min, dt_max, checked)
+            args = _strong(args)
+            program, seconds = _compiled(driver.run, args)
             stats["compile_time_s"] += seconds
-            carry, buf, k, failed, t_stop, n, steps = program(*args)
+            carry, pending, buf, k, failed, t_stop, n = program(*args)
             buf, k, failed, t_stop = jax.device_get((buf, k, failed, t_stop))
-            n_batch, n_steps = n_batch + int(n), n_steps + int(steps)
+            n_batch += int(n)
             t = np.asarray(carry.state.t)
             for j in np.flatnonzero(active):
                 ctx = ctxs[slots[j]]
@@ -311,11 +309,8 @@ class _BatchAdvance:
                 ctx.stats["stroke_newton_iterations"] = int(its[j])
                 ctx.stats["batch_width"] = self.width
         own = int(its[real].sum())
-        tried = int(np.asarray(carry.accepted)[real].sum() + rej[real].sum())
         stats |= {"stroke_wall_time_s": wall, "batch_iterations": n_batch}
         stats |= {"design_iterations": own, "utilisation": own / max(self.width * n_batch, 1)}
-        stats |= {"batch_steps": n_steps, "design_steps": tried}
-        stats["step_utilisation"] = tried / max(self.width * n_steps, 1)
 
     def _fail(self, i, stage, carry) -> None:
         ctx = self.ctxs[i]

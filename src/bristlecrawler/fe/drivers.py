@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from typing import Any
+from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -70,7 +70,7 @@ def make_driver(
     and the synchronisation of two programs per step, and it is the form that runs on a GPU.
     """
     step = make_step(topo, terms, integrator)
-    start, cond, body = _loop(step, observe, capacity, control, check)
+    start, cond, body, _ = _loop(step, observe, capacity, control, check)
 
     @jax.jit
     def run(carry, params, t_end, dt_min, dt_max):
@@ -87,8 +87,10 @@ def make_driver(
 def _loop(step, observe, capacity: int, control: StepControl, check):
     """The compiled driver's loop for one design: ``start(carry, *args)`` makes the loop
     state (carry, buffer, recorded rows, failed, last record), ``cond(c, *args)`` and
-    ``body(c, *args)`` with ``args = (params, t_end, dt_min, dt_max)``. Shared by
-    :func:`make_driver` and, vmapped, by :func:`make_batch_driver`."""
+    ``body(c, *args)`` with ``args = (params, t_end, dt_min, dt_max)``, and ``end(c, new,
+    info, h, *args, checked)``, the body's bookkeeping of an attempted step of ``h`` that
+    gave ``(new, info)``. Shared by :func:`make_driver` and, vmapped, by
+    :func:`make_batch_driver` (which takes its steps one Newton iteration at a time)."""
 
     def start(carry, params, t_end, dt_min, dt_max):
         proto = observe(carry.state, params)
@@ -102,14 +104,14 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
         eps = 1e-12 * jnp.maximum(1.0, jnp.abs(t_end))
         return (carry.state.t < t_end - eps) & (k < capacity) & ~failed
 
-    def body(c, params, t_end, dt_min, dt_max, checked=True):
-        carry, buf, k, _, last = c
-        # A design of a vmapped batch that is done still runs this body (its result is
-        # thrown away): a step of its own size keeps its Newton iterations few and finite,
-        # where the remaining t_end - t (zero or below) would not.
-        active = cond(c, params, t_end, dt_min, dt_max)
-        h = jnp.where(active, jnp.minimum(carry.dt, t_end - carry.state.t), carry.dt)
+    def body(c, params, t_end, dt_min, dt_max):
+        carry = c[0]
+        h = jnp.minimum(carry.dt, t_end - carry.state.t)
         new, info = step(carry.state, params, h)
+        return end(c, new, info, h, params, t_end, dt_min, dt_max)
+
+    def end(c, new, info, h, params, t_end, dt_min, dt_max, checked=True):
+        carry, buf, k, _, last = c
         rec = observe(new, params)
         easy = info.iterations <= control.easy_iterations
         if check is not None:
@@ -139,7 +141,28 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
         )
         return nxt, buf, k + good, failed, last
 
-    return start, cond, body
+    return start, cond, body, end
+
+
+class Pending(NamedTuple):
+    """A design's attempted step inside the batched loop: Newton's iterate (``nc``), the
+    step size ``h`` (s), the force at the step's start and its scale (``r0``, ``s0``,
+    :func:`dynamics.start_force`), and ``fresh``: the next iteration starts a step."""
+
+    nc: Any
+    h: Any
+    r0: Any
+    s0: Any
+    fresh: Any
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchDriver:
+    """:func:`make_batch_driver`'s program ``run`` and ``pending(carry, params)``, the
+    :class:`Pending` of designs that start a step (stacked like ``carry``)."""
+
+    run: Any
+    pending: Any
 
 
 @functools.lru_cache(maxsize=16)
@@ -151,58 +174,96 @@ def make_batch_driver(
     capacity: int,
     control: StepControl = DEFAULT_CONTROL,
     check=None,
-):
-    """:func:`make_driver` for a batch of designs of one structure, in one compiled loop:
-    ``run(carry, params, t_stop, t_end, chunk, dt_min, dt_max, checked)`` with every
-    argument stacked on a leading design axis (from :func:`stack`); ``checked`` (bool)
-    switches the ``check`` of a design off (its steps as with ``check=None``), so that a
-    stage without the check (the gravity step) runs in the same program. Each design keeps
-    its own step size, rejections, Newton iterations and records; one that is done or has
-    failed is masked (its state does not move) while the others step, and one design's failure does
-    not stop the others.
+) -> BatchDriver:
+    """:func:`make_driver` for a batch of designs of one structure, in one compiled loop
+    whose every iteration is one Newton iteration of every design, each at its own point
+    of its own step: a design that needs many iterations for a step (or fails one after
+    ``max_iter``) holds up no other design. ``run(carry, pending, params, t_stop, t_end,
+    chunk, dt_min, dt_max, checked)`` with every argument stacked on a leading design axis
+    (from :func:`stack`; ``pending`` from :attr:`BatchDriver.pending` at the start);
+    ``checked`` (bool) switches the ``check`` of a design off (its steps as with
+    ``check=None``), so that a stage without the check (the gravity step) runs in the same
+    program. Each design keeps its own step size, rejections, Newton iterations and
+    records, and takes the steps of its single run: the same operations, one iteration
+    at a time. One that is done or has failed is masked (its state does not move) while
+    the others iterate, and one design's failure does not stop the others.
 
     Each design steps in chunks of simulated time, as a single run's host loop calls its
     driver: to ``t_stop`` (a chunk's end caps the step), then to ``min(t + chunk,
     t_end)``, and so on, inside the loop, so that no design waits at a chunk's end for the
     others. The loop returns when every design is done or has failed, or when a design's
     buffer is full (``capacity`` rows; the caller takes the rows and calls again with the
-    returned carry and ``t_stop``). Returns (carry, buffer, n_recorded, failed, t_stop,
-    batch_iterations, batch_steps), all per design but the last two: the Newton
-    iterations the batched program ran (each batched step costs its slowest design's
-    iterations), for the utilisation ``sum(carry.iterations) / (B * batch_iterations)``,
-    and its steps (each design attempts one step in each).
+    returned carry, pending steps and ``t_stop``). Returns (carry, pending, buffer,
+    n_recorded, failed, t_stop, batch_iterations), all per design but the last: the
+    iterations of the batched loop, for the utilisation ``sum(carry.iterations) / (B *
+    batch_iterations)``.
     """
-    step = make_step(topo, terms, integrator)
-    start, cond, body = _loop(step, observe, capacity, control, check)
-    vcond, vbody, vstart = (jax.vmap(f) for f in (cond, body, start))
+    from bristlecrawler.fe.dynamics import Integrator, start_force, step_result, step_solver
+
+    ig = Integrator.hht() if integrator is None else integrator
+    start, cond, _, end = _loop(None, observe, capacity, control, check)
+
+    def solver(state, params, h, r0, s0):
+        return step_solver(state, params, h, topo, terms, ig, start=(r0, s0))
+
+    def iterate(c, pend, params, t_stop, dt_min, dt_max, checked):
+        """One Newton iteration of one design: a step starts where ``pend.fresh``, and
+        ends (its bookkeeping as in :func:`make_driver`) where Newton stops."""
+        carry = c[0]
+        state = carry.state
+        h = jnp.where(pend.fresh, jnp.minimum(carry.dt, t_stop - state.t), pend.h)
+        r0, s0 = start_force(state, params, topo, terms)
+        r0 = jnp.where(pend.fresh, r0, pend.r0)
+        s0 = jnp.where(pend.fresh, s0, pend.s0)
+        kin, parts = solver(state, params, h, r0, s0)
+        nc = _tree_where(pend.fresh, parts.init, pend.nc)
+        nc = _tree_where(parts.cond(nc), parts.body(nc), nc)
+        ending = ~parts.cond(nc)
+        new, info = step_result(state, params, h, kin, parts.result(nc), topo, terms, ig)
+        done = end(c, new, info, h, params, t_stop, dt_min, dt_max, checked)
+        return _tree_where(ending, done, c), Pending(nc, h, r0, s0, ending)
+
+    def pending(carry, params):
+        def one(state, p):
+            zero = jnp.zeros((), state.t.dtype)
+            r0, s0 = start_force(state, p, topo, terms)
+            return Pending(solver(state, p, zero, r0, s0)[1].init, zero, r0, s0, True)
+
+        shapes = jax.eval_shape(jax.vmap(one), carry.state, params)
+        out = jax.tree.map(lambda x: np.zeros(x.shape, x.dtype), shapes)
+        return out._replace(fresh=np.ones(out.fresh.shape, bool))
+
+    vcond, vstart, viterate = (jax.vmap(f) for f in (cond, start, iterate))
 
     @jax.jit
-    def run(carry, params, t_stop, t_end, chunk, dt_min, dt_max, checked):
+    def run(carry, pend, params, t_stop, t_end, chunk, dt_min, dt_max, checked):
         def bbody(bc):
-            c, stop, n = bc
+            c, pend, stop, n = bc
             args = (params, stop, dt_min, dt_max)
             active = vcond(c, *args)
-            new = vbody(c, *args, checked)
-            keep = jax.tree.map(lambda x, o: _where(active, x, o), new, c)
-            t, failed = keep[0].state.t, keep[3]
+            new = viterate(c, pend, *args, checked)
+            c, pend = (_tree_where(active, x, o) for x, o in zip(new, (c, pend), strict=True))
+            t, failed = c[0].state.t, c[3]
             # The host loop's test of a chunk's end, then its next chunk.
             more = (t >= stop - 1e-9) & (t < t_end - 1e-9) & ~failed
             stop = jnp.where(more, jnp.minimum(t + chunk, t_end), stop)
-            # Newton's loop, vmapped, runs until the slowest design converges (done designs
-            # included: they step too, and their step is thrown away).
-            return keep, stop, n + jnp.stack([jnp.max(new[0].info.iterations), 1])
+            return c, pend, stop, n + 1
 
         def bcond(bc):
-            c, stop, _ = bc
+            c, _, stop, _ = bc
             return jnp.any(vcond(c, params, stop, dt_min, dt_max)) & jnp.all(c[2] < capacity)
 
         c0 = vstart(carry, params, t_stop, dt_min, dt_max)
-        n0 = jnp.zeros(2, jnp.asarray(0).dtype)
-        c, stop, n = jax.lax.while_loop(bcond, bbody, (c0, t_stop, n0))
+        c, pend, stop, n = jax.lax.while_loop(bcond, bbody, (c0, pend, t_stop, jnp.asarray(0)))
         carry, buf, k, failed, _ = c
-        return carry, buf, k, failed, stop, n[0], n[1]
+        return carry, pend, buf, k, failed, stop, n
 
-    return run
+    return BatchDriver(run, pending)
+
+
+def _tree_where(mask, new, old):
+    """``new`` where ``mask`` (a design's scalar or the batch's (B,) vector), else ``old``."""
+    return jax.tree.map(lambda x, o: _where(mask, x, o), new, old)
 
 
 def _where(mask, new, old):

@@ -34,7 +34,7 @@ from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
-from bristlecrawler.fe.newton import NewtonOptions, newton
+from bristlecrawler.fe.newton import NewtonOptions, newton_parts
 from bristlecrawler.fe.status import (
     PENETRATION,
     ROTATION_LIMIT,
@@ -193,16 +193,23 @@ def _force(u, v, t, history, params, topo, terms, freeze=False):
     return damp + f_int + f_t - f_ext, scale
 
 
-def step_equations(state, params, dt, topo, terms, ig: Integrator):
+def start_force(state, params, topo, terms):
+    """The force at ``state`` (the r of :func:`_force`) and its scale: the start of a time
+    step's HHT residual, the same for every iterate and every step size from it."""
+    return _force(state.u, state.v, state.t, state.history, params, topo, terms)
+
+
+def step_equations(state, params, dt, topo, terms, ig: Integrator, start=None):
     """The equations of one time step of ``dt`` (s) from ``state``: ``kin(q, tc)``, the
     full (u, v, a) at the end of the step for reduced unknowns ``q`` (prescribed motions
     at time ``tc``, default the step's end), and ``residual(q, tc, freeze)``, the HHT
     residual in the reduced unknowns and its force scale (see the module; ``freeze``:
-    :func:`assembly.terms_residual`)."""
+    :func:`assembly.terms_residual`). ``start``: :func:`start_force` of ``state`` where
+    known."""
     al, be, ga = ig.alpha, ig.beta, ig.gamma
-    t0, t1 = state.t, state.t + dt
+    t1 = state.t + dt
     u0, v0, a0 = state.u, state.v, state.a
-    r0, s0 = _force(u0, v0, t0, state.history, params, topo, terms)
+    r0, s0 = start_force(state, params, topo, terms) if start is None else start
 
     def kin(q, tc=t1):
         # tc: time of the prescribed motions (supports, link stretches) in expand
@@ -222,6 +229,68 @@ def step_equations(state, params, dt, topo, terms, ig: Integrator):
     return kin, residual
 
 
+def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None):
+    """One time step of ``dt`` (s) from ``state`` as the parts of its Newton loop:
+    ``(kin, parts)``, ``kin`` as in :func:`step_equations` and ``parts`` a
+    :class:`newton.NewtonParts`. ``start``: :func:`start_force` of ``state`` where known.
+    :func:`make_step` runs the parts in a loop of their own, a batch's driver one
+    iteration per design at a time."""
+    kin, residual = step_equations(state, params, dt, topo, terms, ig, start)
+    if ig.predictor == "tangent":
+        # Euler (tangent) predictor. From the last q, the prescribed motion of the step
+        # distorts the stiffest elements next to a moving support (a bristle root carried
+        # by the actuated body: 12 EI / l^3 ~ 1e7 N/mm for 100 elements per bristle).
+        # The residual of that distortion is nonlinear at relative order (shift / l), and
+        # its second-order part, tens of N, is large for the soft bending modes: the first
+        # Newton correction then rotates the whole bristle and Newton diverges at a few
+        # um of support motion per step. Linearising the residual in the motion instead,
+        # J dq = -(R(q0, t0) + dR/dtc dt), carries the free nodes along (a rigid
+        # translation is in the null space of J's elastic part) at the cost of one
+        # Newton iteration, which it replaces when nothing is prescribed (dR/dtc = 0).
+        # (Extrapolating with v and a was tried earlier and dropped: for steps far above
+        # the period, Omega = 1e3 in the HHT check, it lands Newton on another root.)
+        # The predictor is Newton's iteration 0 (see newton's ``predict``).
+        predict = (state.t, state.t + dt, dt)
+    else:
+        predict = None
+    xscale = jnp.linalg.norm(params.X)
+    parts = newton_parts(residual, state.q, topo, ig.newton, xscale=xscale, predict=predict)
+    return kin, parts
+
+
+def step_result(state, params, dt, kin, solved, topo, terms, ig: Integrator):
+    """``(state, StepInfo)`` after a time step of ``dt`` from ``state`` whose Newton loop
+    ended with ``solved`` = (q, iterations, |R|, F, status): the state at the end of the
+    step with the terms' histories committed, or ``state`` itself where the step failed,
+    Newton's or one of the checks of a converged state (rotation, penetration, overflow,
+    damping)."""
+    q1, it, rn, F, status = solved
+    t1 = state.t + dt
+    u1, v1, a1 = kin(q1)
+    h1 = commit_all(terms, u1, v1, t1, state.history, params)
+    # The paper crawler's front tip node once turned by 5.33 rad (2 pi - 0.95) in a
+    # 27 us step and gained 2.9 mJ of kinetic energy from nothing: a root that exists
+    # only because the energy is 2 pi-periodic in the nodal rotations.
+    turned = jnp.max(jnp.abs(u1[:, 2] - state.u[:, 2]), initial=0.0) > ig.max_rotation
+    status = jnp.where((status == SUCCESS) & turned, ROTATION_LIMIT, status)
+    if math.isfinite(ig.max_penetration):
+        # A converged state with a contact point deep in a solid is a wrong root: with
+        # penalty contact a rigid corner that reaches the medial axis of a thin beam
+        # end is pushed out through the other face (tunnelling); a smaller step keeps
+        # Newton's iterates near the contact surface.
+        too_deep = max_penetration(terms, h1, params) > ig.max_penetration
+        status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
+    status = flag_overflow(terms, u1, params, status)
+    if not topo.stiffness_damping:
+        # The program has no K v term: parameters that need one are refused, not ignored.
+        status = jnp.where(params.damping[1] != 0.0, UNSUPPORTED_DAMPING, status)
+    new = DynState(t1, q1, u1, v1, a1, h1)
+    good = status == SUCCESS
+    out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
+    info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt)
+    return out, info
+
+
 @functools.lru_cache(maxsize=64)
 def make_step(topo, terms=(), integrator: Integrator | None = None):
     """Jitted ``step(state, params, dt) -> (state, StepInfo)`` for one topology.
@@ -233,52 +302,9 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
 
     @jax.jit
     def step(state, params, dt):
-        t0, t1 = state.t, state.t + dt
-        u0 = state.u
-        kin, residual = step_equations(state, params, dt, topo, terms, ig)
-        if ig.predictor == "tangent":
-            # Euler (tangent) predictor. From the last q, the prescribed motion of the step
-            # distorts the stiffest elements next to a moving support (a bristle root carried
-            # by the actuated body: 12 EI / l^3 ~ 1e7 N/mm for 100 elements per bristle).
-            # The residual of that distortion is nonlinear at relative order (shift / l), and
-            # its second-order part, tens of N, is large for the soft bending modes: the first
-            # Newton correction then rotates the whole bristle and Newton diverges at a few
-            # um of support motion per step. Linearising the residual in the motion instead,
-            # J dq = -(R(q0, t0) + dR/dtc dt), carries the free nodes along (a rigid
-            # translation is in the null space of J's elastic part) at the cost of one
-            # Newton iteration, which it replaces when nothing is prescribed (dR/dtc = 0).
-            # (Extrapolating with v and a was tried earlier and dropped: for steps far above
-            # the period, Omega = 1e3 in the HHT check, it lands Newton on another root.)
-            # The predictor is Newton's iteration 0 (see newton's ``predict``).
-            predict = (t0, t1, dt)
-        else:
-            predict = None
-        q1, it, rn, F, status = newton(
-            residual, state.q, topo, ig.newton, xscale=jnp.linalg.norm(params.X), predict=predict
-        )
-        u1, v1, a1 = kin(q1)
-        h1 = commit_all(terms, u1, v1, t1, state.history, params)
-        # The paper crawler's front tip node once turned by 5.33 rad (2 pi - 0.95) in a
-        # 27 us step and gained 2.9 mJ of kinetic energy from nothing: a root that exists
-        # only because the energy is 2 pi-periodic in the nodal rotations.
-        turned = jnp.max(jnp.abs(u1[:, 2] - u0[:, 2]), initial=0.0) > ig.max_rotation
-        status = jnp.where((status == SUCCESS) & turned, ROTATION_LIMIT, status)
-        if math.isfinite(ig.max_penetration):
-            # A converged state with a contact point deep in a solid is a wrong root: with
-            # penalty contact a rigid corner that reaches the medial axis of a thin beam
-            # end is pushed out through the other face (tunnelling); a smaller step keeps
-            # Newton's iterates near the contact surface.
-            too_deep = max_penetration(terms, h1, params) > ig.max_penetration
-            status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
-        status = flag_overflow(terms, u1, params, status)
-        if not topo.stiffness_damping:
-            # The program has no K v term: parameters that need one are refused, not ignored.
-            status = jnp.where(params.damping[1] != 0.0, UNSUPPORTED_DAMPING, status)
-        new = DynState(t1, q1, u1, v1, a1, h1)
-        good = status == SUCCESS
-        out = jax.tree.map(lambda n, o: jnp.where(good, n, o), new, state)
-        info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t1, dt, 1.0 + 0.0 * dt)
-        return out, info
+        kin, parts = step_solver(state, params, dt, topo, terms, ig)
+        solved = parts.result(jax.lax.while_loop(parts.cond, parts.body, parts.init))
+        return step_result(state, params, dt, kin, solved, topo, terms, ig)
 
     return step
 
