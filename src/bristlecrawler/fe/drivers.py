@@ -6,8 +6,8 @@ step (and, given a ``check``, reject a converged step whose error estimate the c
 refuses): :func:`make_driver` as one compiled XLA loop (the form for a GPU and for ``vmap``
 batches), :func:`make_host_driver` as a host loop around the compiled step (the smaller
 program to compile on a CPU; as fast per run there). :func:`make_batch_driver` is the
-compiled loop vmapped over designs of one structure. :func:`driver_start` makes the first
-carry.
+compiled loop for designs of one structure, one Newton iteration of every design at a
+time. :func:`driver_start` makes the first carry.
 """
 
 from __future__ import annotations
