@@ -132,10 +132,7 @@ def _settle_start(ctx: RunContext, first: bool) -> float:
     Returns the seconds spent compiling."""
     from bristlecrawler import fe
 
-    spec, opt = ctx.spec, ctx.options
-    ctx.damping = fe.Rayleigh.from_ratio(max(spec.damping.ratio, 0.15), opt.settle_omega, "mass")
-    ctx.model = ctx.damping.apply(ctx.crawler.model)
-    ctx.dt = opt.dt0
+    Settle.setup(ctx)
     if first:
         ctx.state, seconds = compile_programs(ctx, step=False, modal=True)
         return seconds
@@ -244,7 +241,8 @@ class _BatchAdvance:
     def _inputs(self, stage, slots, real, check):
         ctxs, sv = self.ctxs, [self.ctxs[i].spec.solver for i in slots]
         dt_min = np.array([s.dt_min for s in sv])
-        dt_max = np.array([s.dt_max if check else min(s.dt_max, 0.01) for s in sv])
+        settle_dt_max = [Settle.dt_max(ctxs[i]) for i in slots]
+        dt_max = np.array([s.dt_max for s in sv] if check else settle_dt_max)
         t = np.array([float(ctxs[i].state.t) for i in slots])
         t_end = np.where(real, t + np.array([stage.span(ctxs[i]) for i in slots]), t)
         if isinstance(stage, Stroke):

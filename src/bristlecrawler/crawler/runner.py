@@ -213,19 +213,27 @@ class Settle:
         return ctx.spec.actuation.settle_time
 
     def __call__(self, ctx: RunContext) -> None:
-        from bristlecrawler import fe
-
-        spec, opt = ctx.spec, ctx.options
-        ctx.damping = fe.Rayleigh.from_ratio(
-            max(spec.damping.ratio, 0.15), opt.settle_omega, "mass"
-        )
-        ctx.model = ctx.damping.apply(ctx.crawler.model)
-        ctx.dt = opt.dt0
+        self.setup(ctx)
         ctx.report("compiling")
         ctx.state = _prepare(ctx)
         ctx.report(self.name)
-        ctx.advance(self.span(ctx), min(spec.solver.dt_max, 0.01), self.name, check=False)
+        ctx.advance(self.span(ctx), self.dt_max(ctx), self.name, check=False)
         ctx.records.clear()
+
+    @staticmethod
+    def setup(ctx: RunContext) -> None:
+        """The provisional damping (and the model with it) and the first step size."""
+        from bristlecrawler import fe
+
+        ratio, omega = max(ctx.spec.damping.ratio, 0.15), ctx.options.settle_omega
+        ctx.damping = fe.Rayleigh.from_ratio(ratio, omega, "mass")
+        ctx.model = ctx.damping.apply(ctx.crawler.model)
+        ctx.dt = ctx.options.dt0
+
+    @staticmethod
+    def dt_max(ctx: RunContext) -> float:
+        """The largest step of the gravity step (s)."""
+        return min(ctx.spec.solver.dt_max, 0.01)
 
 
 def _prepare(ctx: RunContext):
