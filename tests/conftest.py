@@ -10,34 +10,8 @@ from bristlecrawler.cli.app import main
 # The CLI commands enable JAX's persistent compilation cache, for the rest of the pytest
 # process too. Keep the suite off the user's cache: a run of the suite once crashed
 # (segmentation fault) deserialising an entry of it while other processes were writing
-# to it. BRISTLECRAWLER_NO_JAX_CACHE=0 opts in.
+# to it, and a fresh CI machine gains nothing from it. BRISTLECRAWLER_NO_JAX_CACHE=0 opts in.
 os.environ.setdefault("BRISTLECRAWLER_NO_JAX_CACHE", "1")
-
-
-def _session_compilation_cache() -> None:
-    """JAX's persistent cache in a fresh folder of this process alone, for the session.
-
-    Many test modules compile the same FE programs (the paper crawler's step, a drag
-    test's), and each module's programs are dropped after it (below); with this cache a
-    later module loads them from disk instead of compiling them again. The folder is this
-    process's own (a pytest-xdist worker gets its own, the CLI's subprocesses and Dask
-    workers none: the variable above keeps them off every cache), so no entry is read
-    while another process writes it. BRISTLECRAWLER_TEST_JAX_CACHE=0 turns it off."""
-    if os.environ.get("BRISTLECRAWLER_TEST_JAX_CACHE", "1") == "0":
-        return
-    import atexit
-    import shutil
-    import tempfile
-
-    import jax
-
-    folder = tempfile.mkdtemp(prefix="bristlecrawler-tests-jax-")
-    atexit.register(shutil.rmtree, folder, True)
-    jax.config.update("jax_compilation_cache_dir", folder)
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
-
-
-_session_compilation_cache()
 
 settings.register_profile(
     "ci", max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow]
