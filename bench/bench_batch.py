@@ -5,8 +5,9 @@ few single runs with the host loop (:func:`crawler.run`, the CPU default; the fi
 compiles and is not timed), then for each batch width B one :func:`crawler.run_batch` of
 B designs of the grid, whose compilation (or load from the persistent cache) is reported
 apart. Prints one row per case as it ends: wall time, designs per hour (compilation left
-out), utilisation (the designs' own Newton iterations over B x the batch's iterations)
-and the largest difference in net advance from the single runs of the same designs.
+out), utilisation (the designs' own Newton iterations over B x the batch's iterations),
+the batch's iterations and its longest design's own, and the largest difference in net
+advance from the single runs of the same designs.
 
     python bench/bench_batch.py [--widths 1 2 4 8 16] [--cycles 2] [--singles 2]
                                 [--set bristle.elements=20]
@@ -61,7 +62,8 @@ def main() -> None:
     )
     head = (
         f"{'case':>15} {'wall s':>8} {'compile s':>10} {'designs/h':>10} "
-        f"{'utilisation':>11} {'max |d advance| mm':>19} {'load':>5}"
+        f"{'utilisation':>11} {'batch its':>10} {'longest':>8} {'max |d advance| mm':>19} "
+        f"{'load':>5}"
     )
     print(head + "\n" + "-" * len(head), flush=True)
     t0 = time.perf_counter()
@@ -78,7 +80,7 @@ def main() -> None:
         wall = time.perf_counter() - t0
         print(
             f"{'single ' + str(i):>15} {wall:8.1f} {'-':>10} {3600 / wall:10.0f} {'-':>11} "
-            f"{'-':>19} {os.getloadavg()[0]:5.2f}",
+            f"{'-':>10} {'-':>8} {'-':>19} {os.getloadavg()[0]:5.2f}",
             flush=True,
         )
     for width in a.widths:
@@ -92,10 +94,13 @@ def main() -> None:
             if i < width and b.histories[i] is not None
         ]
         failed = sum(e is not None for e in b.errors)
+        own = [h.stats["stroke_newton_iterations"] for h in b.histories if h is not None]
+        longest = max(own, default=0)
         rate = 3600 * (width - failed) / (wall - s["compile_time_s"])
         print(
             f"{'batch B=' + str(width):>15} {wall:8.1f} {s['compile_time_s']:10.1f} "
-            f"{rate:10.0f} {s['utilisation']:11.2f} "
+            f"{rate:10.0f} {s['utilisation']:11.2f} {s['batch_iterations']:10d} "
+            f"{longest:8d} "
             f"{(max(diffs) if diffs else float('nan')):19.2e} {os.getloadavg()[0]:5.2f}"
             + (f"  ({failed} failed)" if failed else ""),
             flush=True,
