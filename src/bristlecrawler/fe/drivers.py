@@ -22,7 +22,15 @@ import numpy as np
 
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
-from bristlecrawler.fe.dynamics import DynState, Integrator, StepInfo, make_step
+from bristlecrawler.fe.dynamics import (
+    DynState,
+    Integrator,
+    StepInfo,
+    make_step,
+    start_force,
+    step_result,
+    step_solver,
+)
 from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
 
 
@@ -198,8 +206,6 @@ def make_batch_driver(
     iterations of the batched loop, for the utilisation ``sum(carry.iterations) / (B *
     batch_iterations)``.
     """
-    from bristlecrawler.fe.dynamics import Integrator, start_force, step_result, step_solver
-
     ig = Integrator.hht() if integrator is None else integrator
     start, cond, _, end = _loop(None, observe, capacity, control, check)
 
