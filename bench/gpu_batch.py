@@ -8,12 +8,14 @@ included), designs per minute (compilation left out), utilisation, the device's 
 memory, the stroke's time per batched Newton iteration and the spread of the designs' net
 advance. A width that runs past its ``--budgets`` (seconds; what a width leaves goes to
 the next) is stopped at its next return to the host and reported as stopped, with the
-simulated time its slowest design reached. Needs a JAX with CUDA (on a CPU it says so
+simulated time its slowest design reached. ``--trials`` chooses how Newton's line
+search makes its trials in the batch (:class:`crawler.RunOptions` ``batch_trials``; the
+same results either way). Needs a JAX with CUDA (on a CPU it says so
 and stops, unless ``--cpu``). Builds the designs from :meth:`CrawlerSpec.paper` (no
 scenario file, so no pydantic needed).
 
     python bench/gpu_batch.py [--widths 1024 64 256] [--cycles 5] [--elements 20]
-                              [--budgets 330 80 90] [--cpu]
+                              [--budgets 330 80 90] [--trials auto] [--cpu]
 """
 
 from __future__ import annotations
@@ -61,13 +63,14 @@ def watch(deadline: float, t_start: float, state: dict):
 
 
 def one_width(width: int, a, deadline: float, device) -> None:
-    from bristlecrawler.crawler import run_batch
+    from bristlecrawler.crawler import RunOptions, run_batch
 
     t0 = time.perf_counter()
     specs = designs(width, a.cycles, a.elements)
     state: dict = {}
     try:
-        b = run_batch(specs, on_progress=watch(deadline, t0, state))
+        options = RunOptions(batch_trials=a.trials)
+        b = run_batch(specs, options=options, on_progress=watch(deadline, t0, state))
     except Stopped:
         p = state["last"]
         peak = (device.memory_stats() or {}).get("peak_bytes_in_use", float("nan")) / 2**30
@@ -117,6 +120,7 @@ def main() -> None:
         default=[330.0, 80.0, 90.0],
         help="seconds for each width (what one leaves goes to the next)",
     )
+    ap.add_argument("--trials", choices=["auto", "sequential", "parallel"], default="auto")
     ap.add_argument("--cpu", action="store_true", help="run on a CPU too (to try the script)")
     a = ap.parse_args()
 
@@ -131,7 +135,7 @@ def main() -> None:
     enable_compilation_cache()
     print(
         f"{device.device_kind}; JAX {jax.__version__}; paper, {a.cycles} cycles, "
-        f"elements per bristle {a.elements or 'as the paper'}"
+        f"elements per bristle {a.elements or 'as the paper'}; line-search trials {a.trials}"
     )
     head = (
         f"{'B':>6} {'compile s':>10} {'settle s':>9} {'stroke s':>9} {'wall s':>8} "

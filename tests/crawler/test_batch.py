@@ -10,7 +10,7 @@ import functools
 import numpy as np
 import pytest
 
-from bristlecrawler.crawler import group, run, run_batch
+from bristlecrawler.crawler import RunOptions, group, run, run_batch
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.scenario.convert import to_spec
 from bristlecrawler.scenario.load import apply_overrides, load_scenario
@@ -56,6 +56,22 @@ def test_each_design_of_a_batch_takes_the_steps_of_its_single_run(index):
     assert h.net_advance == pytest.approx(single.net_advance, abs=1e-6)
     np.testing.assert_allclose(h.t, single.t, atol=1e-12)
     np.testing.assert_allclose(h.tip_position[-1], single.tip_position[-1], atol=1e-6)
+
+
+def test_a_batch_making_its_line_search_trials_at_once_takes_the_same_steps():
+    """``batch_trials="parallel"`` evaluates every trial of a line search in one pass and
+    takes the one the sequential search stops at: the same steps, advance and Newton
+    iterations as the sequential batch (the CPU's default)."""
+    par = run_batch([design(*d) for d in DESIGNS], options=RunOptions(batch_trials="parallel"))
+    for h, ref in zip(par.histories, batch().histories, strict=True):
+        for key in ("steps", "rejected_steps", "stroke_newton_iterations"):
+            assert h.stats[key] == ref.stats[key], key
+        assert h.net_advance == pytest.approx(ref.net_advance, abs=1e-9)
+
+
+def test_an_unknown_way_of_making_the_trials_is_refused():
+    with pytest.raises(InputError, match="batch_trials"):
+        RunOptions(batch_trials="lazy")
 
 
 def test_the_batch_counts_its_iterations_against_its_designs():

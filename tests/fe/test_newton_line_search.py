@@ -5,6 +5,8 @@ import math
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import Integrator
@@ -300,3 +302,29 @@ def test_the_dynamic_step_caps_its_corrections():
     assert deflection > 0.1  # far beyond the cap: the test can tell
     assert it_free < deflection / 0.01 <= it_cap
     np.testing.assert_allclose(u_cap, u_free, rtol=0.0, atol=1e-8 * deflection)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    target=st.floats(-4.0, 4.0),
+    monotone=st.booleans(),
+    cap=st.sampled_from([math.inf, 0.3]),
+    wall=st.sampled_from([math.inf, 2.5]),
+)
+def test_parallel_trials_give_the_sequential_line_search(target, monotone, cap, wall):
+    """Making every trial of the line search at once selects the trial the sequential
+    search stops at: the same iterates, iterations and status, bit for bit, with
+    backtracking (arctan overshoot), capped corrections and non-finite trials (NaN
+    beyond |q| = ``wall``)."""
+    topo = cantilever().topology
+
+    def residual(q):
+        r = jnp.arctan(q - target)
+        return jnp.where(jnp.abs(q) > wall, jnp.nan, r), jnp.asarray(1.0)
+
+    q0 = jnp.zeros(topo.n_red)
+    line_search = "monotone" if monotone else "growth"
+    opts = NewtonOptions(line_search=line_search, max_correction=cap, rtol=1e-12, max_iter=30)
+    seq, par = (_newton(residual, q0, topo, opts, parallel=p) for p in (False, True))
+    np.testing.assert_array_equal(np.asarray(seq[0]), np.asarray(par[0]))
+    assert [int(x) for x in (seq[1], seq[4])] == [int(x) for x in (par[1], par[4])]

@@ -264,7 +264,8 @@ class _BatchAdvance:
                 ctx.records.append(
                     jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params))
                 )
-        driver = fe.make_batch_driver(*ctxs[live[0]].driver_args(True))
+        first = ctxs[live[0]]
+        driver = fe.make_batch_driver(*first.driver_args(True), first.parallel_trials)
         carry = fe.stack([fe.driver_start(ctxs[i].state, ctxs[i].dt) for i in slots])
         params = fe.stack([ctxs[i].model.params for i in slots])
         pending = driver.pending(carry, params)

@@ -49,6 +49,13 @@ class RunOptions:
         compile_threads: threads that compile the run's programs at its start (1: one
             after the other; XLA compiles outside Python's lock, so more threads use more
             cores).
+        batch_trials: how a batch's Newton line search makes its trials (the same
+            results either way): "sequential" (one residual per trial, as a single run:
+            under ``vmap`` every design pays the batch's longest search), "parallel"
+            (all of them in one vectorised residual) or "auto" (sequential on a CPU,
+            which computes every trial's arithmetic, parallel elsewhere, where a
+            batched iteration's cost is mostly the number of operations launched).
+            Single runs always search sequentially.
     """
 
     dt0: float = 1e-3
@@ -56,10 +63,16 @@ class RunOptions:
     capacity: int = 512
     driver: str = "auto"
     compile_threads: int = 4
+    batch_trials: str = "auto"
 
     def __post_init__(self) -> None:
         if self.driver not in ("auto", "host", "compiled"):
             raise InputError(f"driver must be 'auto', 'host' or 'compiled', got {self.driver!r}")
+        if self.batch_trials not in ("auto", "sequential", "parallel"):
+            raise InputError(
+                "batch_trials must be 'auto', 'sequential' or 'parallel', "
+                f"got {self.batch_trials!r}"
+            )
         if not (isinstance(self.compile_threads, int) and self.compile_threads >= 1):
             raise InputError(
                 f"compile_threads must be a whole number >= 1, got {self.compile_threads!r}"
@@ -126,6 +139,12 @@ class RunContext:
     def host(self) -> bool:
         o = self.options.driver
         return o == "host" or (o == "auto" and jax.default_backend() == "cpu")
+
+    @property
+    def parallel_trials(self) -> bool:
+        """Whether a batch of this crawler makes its line-search trials at once."""
+        o = self.options.batch_trials
+        return o == "parallel" or (o == "auto" and jax.default_backend() != "cpu")
 
     def report(self, stage: str | None = None) -> None:
         if stage is not None:

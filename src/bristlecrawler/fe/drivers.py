@@ -182,6 +182,7 @@ def make_batch_driver(
     capacity: int,
     control: StepControl = DEFAULT_CONTROL,
     check=None,
+    parallel_trials: bool = False,
 ) -> BatchDriver:
     """:func:`make_driver` for a batch of designs of one structure, in one compiled loop
     whose every iteration is one Newton iteration of every design, each at its own point
@@ -195,6 +196,9 @@ def make_batch_driver(
     records, and takes the steps of its single run: the same operations, one iteration
     at a time. One that is done or has failed is masked (its state does not move) while
     the others iterate, and one design's failure does not stop the others.
+    ``parallel_trials``: Newton's line search makes all its trials at once (the same
+    results; see :func:`newton.newton_parts`), so that a batched iteration does not
+    make as many trials as the batch's longest search.
 
     Each design steps in chunks of simulated time, as a single run's host loop calls its
     driver: to ``t_stop`` (a chunk's end caps the step), then to ``min(t + chunk,
@@ -210,7 +214,7 @@ def make_batch_driver(
     start, cond, _, end = _loop(None, observe, capacity, control, check)
 
     def solver(state, params, h, r0, s0):
-        return step_solver(state, params, h, topo, terms, ig, start=(r0, s0))
+        return step_solver(state, params, h, topo, terms, ig, (r0, s0), parallel_trials)
 
     def iterate(c, pend, params, t_stop, dt_min, dt_max, checked):
         """One Newton iteration of one design: a step starts where ``pend.fresh``, and

@@ -229,12 +229,13 @@ def step_equations(state, params, dt, topo, terms, ig: Integrator, start=None):
     return kin, residual
 
 
-def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None):
+def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None, parallel=False):
     """One time step of ``dt`` (s) from ``state`` as the parts of its Newton loop:
     ``(kin, parts)``, ``kin`` as in :func:`step_equations` and ``parts`` a
     :class:`newton.NewtonParts`. ``start``: :func:`start_force` of ``state`` where known.
     :func:`make_step` runs the parts in a loop of their own, a batch's driver one
-    iteration per design at a time."""
+    iteration per design at a time. ``parallel``: Newton's line search makes its trials
+    at once (:func:`newton.newton_parts`), as a batch does."""
     kin, residual = step_equations(state, params, dt, topo, terms, ig, start)
     if ig.predictor == "tangent":
         # Euler (tangent) predictor. From the last q, the prescribed motion of the step
@@ -254,7 +255,9 @@ def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None):
     else:
         predict = None
     xscale = jnp.linalg.norm(params.X)
-    parts = newton_parts(residual, state.q, topo, ig.newton, xscale=xscale, predict=predict)
+    parts = newton_parts(
+        residual, state.q, topo, ig.newton, xscale=xscale, predict=predict, parallel=parallel
+    )
     return kin, parts
 
 
