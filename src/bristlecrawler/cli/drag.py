@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import shlex
 import sys
-from pathlib import Path
 from typing import Annotated
 
 import typer
+
+from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun
 
 
 def drag_cmd(
@@ -34,13 +35,9 @@ def drag_cmd(
         list[str] | None,
         typer.Option("--set", help="override a scenario value, section.key=value; repeatable"),
     ] = None,
-    out: Annotated[
-        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
-    ] = None,
-    replace: Annotated[
-        bool, typer.Option("--replace", help="replace the run in --out once this one is done")
-    ] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="print the summary as JSON")] = False,
+    out: OutFolder = None,
+    replace: ReplaceRun = False,
+    as_json: JsonSummary = False,
     progress: Annotated[bool | None, typer.Option("--progress/--no-progress")] = None,
 ) -> None:
     """Drag one bristle of a scenario over its substrate: k, F_p, F_n of the reduced model.

@@ -9,6 +9,8 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.options import OutFolder, ReplaceRun
+
 
 def analyze_cmd(
     recording: Annotated[Path, typer.Argument(help="CSV or TDMS file of the two transducers")],
@@ -38,15 +40,8 @@ def analyze_cmd(
         str | None, typer.Option("--group", help="TDMS group [default: first]")
     ] = None,
     max_gap: Annotated[float, typer.Option("--max-gap", help="longest dropout bridged, s")] = 0.5,
-    out: Annotated[
-        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
-    ] = None,
-    replace: Annotated[
-        bool,
-        typer.Option(
-            "--replace", help="replace the run (complete or not) in --out once this one is done"
-        ),
-    ] = False,
+    out: OutFolder = None,
+    replace: ReplaceRun = False,
     as_json: Annotated[
         bool, typer.Option("--json", help="print the summary as JSON on stdout")
     ] = False,

@@ -9,6 +9,7 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun
 from bristlecrawler.reduced.crawler import (
     DEFAULT_FN_OVER_FP,
     PAPER_CYCLES,
@@ -68,16 +69,9 @@ def reduced_cmd(
         ),
     ] = None,
     samples: Annotated[int, typer.Option("--samples-per-cycle", help="samples per period")] = 2000,
-    out: Annotated[
-        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
-    ] = None,
-    replace: Annotated[
-        bool,
-        typer.Option(
-            "--replace", help="replace the run (complete or not) in --out once this one is done"
-        ),
-    ] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
+    out: OutFolder = None,
+    replace: ReplaceRun = False,
+    as_json: JsonSummary = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the PNG figures")] = False,
 ) -> None:
     """Run the reduced one-dimensional model (paper Section 4) with the exact solver.

@@ -9,11 +9,11 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.options import OutFolder
+
 
 def reproduce_cmd(
-    out: Annotated[
-        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
-    ] = None,
+    out: OutFolder = None,
     quick: Annotated[
         bool,
         typer.Option(

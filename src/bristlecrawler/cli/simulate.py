@@ -9,6 +9,8 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun
+
 
 def simulate_cmd(
     scenario: Annotated[
@@ -41,16 +43,9 @@ def simulate_cmd(
             "the body length (sets actuation.kind = history)",
         ),
     ] = None,
-    out: Annotated[
-        Path | None, typer.Option("--out", help="output folder [default: runs/<id>]")
-    ] = None,
-    replace: Annotated[
-        bool,
-        typer.Option(
-            "--replace", help="replace the run (complete or not) in --out once this one is done"
-        ),
-    ] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
+    out: OutFolder = None,
+    replace: ReplaceRun = False,
+    as_json: JsonSummary = False,
     no_figures: Annotated[
         bool, typer.Option("--no-figures", help="skip figures and animation")
     ] = False,

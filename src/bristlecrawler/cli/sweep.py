@@ -10,6 +10,8 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.options import JsonSummary
+
 
 def sweep_cmd(
     study: Annotated[
@@ -49,7 +51,7 @@ def sweep_cmd(
             "[default: none on a CPU, up to 1024 on a GPU]",
         ),
     ] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")] = False,
+    as_json: JsonSummary = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the figures")] = False,
     progress: Annotated[
         bool | None,
