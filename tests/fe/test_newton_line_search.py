@@ -304,7 +304,7 @@ def test_the_dynamic_step_caps_its_corrections():
     np.testing.assert_allclose(u_cap, u_free, rtol=0.0, atol=1e-8 * deflection)
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(
     target=st.floats(-4.0, 4.0),
     monotone=st.booleans(),
