@@ -45,7 +45,7 @@ def main() -> None:
     ctx.damping = fe.Rayleigh.from_ratio(0.15, ctx.options.settle_omega, "mass")
     ctx.model = ctx.damping.apply(ctx.crawler.model)
     state = fe.initial_state(ctx.model)
-    driver = fe.make_batch_driver(*ctx.driver_args(True))
+    driver = fe.make_batch_driver(*ctx.driver_args(True), ctx.parallel_trials)
     print(f"{device.device_kind}; JAX {jax.__version__}; paper, gravity step of {a.span} s")
     head = f"{'B':>6} {'compile s':>10} {'run s':>8} {'iterations':>11} {'ms/it':>8}"
     head += f" {'us/design-it':>13}"

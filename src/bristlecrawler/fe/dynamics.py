@@ -235,7 +235,7 @@ def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None, para
     :class:`newton.NewtonParts`. ``start``: :func:`start_force` of ``state`` where known.
     :func:`make_step` runs the parts in a loop of their own, a batch's driver one
     iteration per design at a time. ``parallel``: Newton's line search makes its trials
-    at once (:func:`newton.newton_parts`), as a batch does."""
+    at once (:func:`newton.newton_parts`), as a batch off the CPU does."""
     kin, residual = step_equations(state, params, dt, topo, terms, ig, start)
     if ig.predictor == "tangent":
         # Euler (tangent) predictor. From the last q, the prescribed motion of the step
