@@ -20,6 +20,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler.fe.programs import stored
+
 #: Columns of a record's ``energies``: elastic, kinetic, potential energy of the loads,
 #: friction dissipation, contact penalty energy (mJ), damping power (mW).
 ENERGY_COLUMNS = ("elastic", "kinetic", "potential", "friction", "penalty", "damping_power")
@@ -127,7 +129,8 @@ def _make_observer(topo, terms, contact_index, body, subtrees, tip_points):
             "stretch": jnp.stack(stretch),
         }
 
-    return observe
+    key = (topo, terms, contact_index, body, subtrees, tip_points)
+    return stored(observe, "crawler.record.observer", *key)
 
 
 def energy_series(t, fc, s, en) -> dict[str, np.ndarray]:

@@ -1,8 +1,12 @@
-"""JAX persistent compilation cache for the FE programs.
+"""Where the FE programs' compilation caches live.
 
-Compiling a step for a new topology takes seconds; the cache keeps the XLA executables on
-disk between runs. Default folder ``~/.cache/bristlecrawler/jax`` (or ``$XDG_CACHE_HOME``);
-set ``BRISTLECRAWLER_NO_JAX_CACHE=1`` to opt out, ``BRISTLECRAWLER_JAX_CACHE=path`` to move.
+Two caches share one folder: JAX's persistent cache of XLA executables, and the compiled
+programs of :mod:`bristlecrawler.fe.programs` (in ``programs/``), which also skip tracing.
+Both are on by default, for the library as for the CLI. Default folder
+``~/.cache/bristlecrawler/jax`` (or ``$XDG_CACHE_HOME``); ``BRISTLECRAWLER_JAX_CACHE=path``
+moves it, ``BRISTLECRAWLER_NO_JAX_CACHE=1`` turns both off, ``BRISTLECRAWLER_XLA_CACHE=0``
+only JAX's (whose writes are not atomic: a process reading an entry that another is writing
+can crash, which the stored programs' atomic writes rule out).
 """
 
 from __future__ import annotations
@@ -11,18 +15,26 @@ import os
 from pathlib import Path
 
 
-def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path | None:
-    """Point JAX's persistent cache at ``path``; returns the folder, or None if opted out."""
+def cache_folder() -> Path | None:
+    """The cache folder, or None if opted out (``BRISTLECRAWLER_NO_JAX_CACHE``)."""
     if os.environ.get("BRISTLECRAWLER_NO_JAX_CACHE", "").strip() not in ("", "0"):
         return None
-    import jax
-
-    if path is None:
-        path = os.environ.get("BRISTLECRAWLER_JAX_CACHE")
+    path = os.environ.get("BRISTLECRAWLER_JAX_CACHE")
     if path is None:
         base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
         path = base / "bristlecrawler" / "jax"
-    folder = Path(path).expanduser()
+    return Path(path).expanduser()
+
+
+def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path | None:
+    """Point JAX's persistent cache at ``path`` (default :func:`cache_folder`); returns the
+    folder, or None if opted out or the folder cannot be made."""
+    default = cache_folder()
+    if default is None or os.environ.get("BRISTLECRAWLER_XLA_CACHE", "").strip() == "0":
+        return None
+    import jax
+
+    folder = Path(path).expanduser() if path is not None else default
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError:

@@ -31,6 +31,7 @@ from bristlecrawler.fe.dynamics import (
     step_result,
     step_solver,
 )
+from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
 
 
@@ -89,7 +90,9 @@ def make_driver(
         carry, buf, k, failed, _ = c
         return carry, buf, k, failed
 
-    return run
+    return stored(
+        run, "fe.drivers.make_driver", topo, terms, integrator, observe, capacity, control, check
+    )
 
 
 def _loop(step, observe, capacity: int, control: StepControl, check):
@@ -268,7 +271,8 @@ def make_batch_driver(
         carry, buf, k, failed, _ = c
         return carry, pend, buf, k, failed, stop, n
 
-    return BatchDriver(run, pending)
+    key = (topo, terms, integrator, observe, capacity, control, check, parallel_trials)
+    return BatchDriver(stored(run, "fe.drivers.make_batch_driver", *key), pending)
 
 
 def _tree_where(mask, new, old):
@@ -314,7 +318,7 @@ def make_host_driver(
         return f if hasattr(f, "lower") else jax.jit(f)
 
     obs = jitted(observe)
-    accept = None if check is None else jitted(check)
+    accept = None if check is None else stored(jax.jit(check), "fe.drivers.check", check)
 
     def run(carry, params, t_end, dt_min, dt_max):
         t_end, dt_min, dt_max = float(t_end), float(dt_min), float(dt_max)

@@ -35,6 +35,7 @@ from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import NewtonOptions, newton_parts
+from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     PENETRATION,
     ROTATION_LIMIT,
@@ -309,7 +310,7 @@ def make_step(topo, terms=(), integrator: Integrator | None = None):
         solved = parts.result(jax.lax.while_loop(parts.cond, parts.body, parts.init))
         return step_result(state, params, dt, kin, solved, topo, terms, ig)
 
-    return step
+    return stored(step, "fe.dynamics.make_step", topo, terms, ig)
 
 
 @functools.lru_cache(maxsize=64)
@@ -333,7 +334,7 @@ def _initial_acceleration_fn(topo, terms):
         ar = banded.solve(M, -pull(r)[0], topo)
         return u, jax.jvp(expand, (q,), (ar,))[1]
 
-    return fn
+    return stored(fn, "fe.dynamics.initial_acceleration", topo, terms)
 
 
 def initial_state(model, u=None, q=None, t: float = 0.0, history=None) -> DynState:

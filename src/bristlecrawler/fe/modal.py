@@ -17,6 +17,7 @@ import numpy as np
 
 from bristlecrawler.errors import SolverError
 from bristlecrawler.fe import assembly, banded
+from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.static import tangent
 
 
@@ -47,7 +48,7 @@ def _mass_fn(topo):
 
         return banded.extract(mass_red, jnp.zeros_like(q), topo)[1]
 
-    return fn
+    return stored(fn, "fe.modal.mass", topo)
 
 
 @functools.lru_cache(maxsize=64)
@@ -63,7 +64,7 @@ def _shapes_fn(topo):
 
         return jax.vmap(lambda v: jax.jvp(expand, (q,), (v,))[1])(V)
 
-    return fn
+    return stored(fn, "fe.modal.shapes", topo)
 
 
 def mass_matrix(model, q, t: float = 0.0, lam: float = 1.0):

@@ -19,6 +19,7 @@ import numpy as np
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.newton import NewtonOptions, newton
+from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     CONTACT_OVERFLOW,
     ROTATION_LIMIT,
@@ -107,7 +108,7 @@ def make_static_solver(topo, terms, newton_options):
         info = StepInfo(status, it, rn, rn / jnp.maximum(F, 1e-300), t, 0.0 * t, lam)
         return q, u, info
 
-    return solve
+    return stored(solve, "fe.static.solver", topo, terms, newton_options)
 
 
 def initial_static_state(model, t: float = 0.0) -> StaticState:
@@ -205,7 +206,7 @@ def _tangent_fn(topo, terms):
 
         return banded.extract(res, q, topo)[1]
 
-    return fn
+    return stored(fn, "fe.static.tangent", topo, terms)
 
 
 def tangent(model, q, t: float = 0.0, lam: float = 1.0, history=None):
