@@ -1,17 +1,27 @@
 """Shared test settings (hypothesis profiles sized for a 2-core CI machine) and fixtures."""
 
+import atexit
 import os
+import shutil
+import tempfile
 
 import pytest
 from hypothesis import HealthCheck, settings
 
 from bristlecrawler.cli.app import main
 
-# The CLI commands enable JAX's persistent compilation cache, for the rest of the pytest
-# process too. Keep the suite off the user's cache: a run of the suite once crashed
-# (segmentation fault) deserialising an entry of it while other processes were writing
-# to it, and a fresh CI machine gains nothing from it. BRISTLECRAWLER_NO_JAX_CACHE=0 opts in.
-os.environ.setdefault("BRISTLECRAWLER_NO_JAX_CACHE", "1")
+# The FE programs are stored in a cache folder of this test process's own (each xdist
+# worker has one; the subprocesses and Dask workers a test starts share it: the stored
+# programs are written atomically), so that a module that builds a structure an earlier
+# one built loads its programs instead of tracing and compiling them again. JAX's own
+# persistent cache stays off: its entries are written in place, and a run of the suite
+# once crashed reading one that another process was writing. Setting
+# BRISTLECRAWLER_JAX_CACHE (or BRISTLECRAWLER_NO_JAX_CACHE=1) overrides.
+if "BRISTLECRAWLER_JAX_CACHE" not in os.environ:
+    _cache = tempfile.mkdtemp(prefix="bristlecrawler-test-cache-")
+    os.environ["BRISTLECRAWLER_JAX_CACHE"] = _cache
+    atexit.register(shutil.rmtree, _cache, ignore_errors=True)
+os.environ.setdefault("BRISTLECRAWLER_XLA_CACHE", "0")
 
 settings.register_profile(
     "ci", max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow]
@@ -46,8 +56,12 @@ def run_cli(capsys):
 def _free_compiled_programs():
     """Drop JAX's compiled programs after each test module. The suite compiles hundreds of
     programs (the FE crawler's step is 8 MB of machine code); kept for the whole process
-    they grew its memory until XLA aborted in a later compile (twice, in tests/fe)."""
+    they grew its memory until XLA aborted in a later compile (twice, in tests/fe). The
+    stored programs stay on disk for the next module."""
     yield
     import jax
 
+    from bristlecrawler.fe.programs import clear_loaded
+
     jax.clear_caches()
+    clear_loaded()

@@ -27,7 +27,6 @@ def worker_env() -> dict[str, str]:
     env["PYTHONPATH"] = os.pathsep.join(paths).rstrip(os.pathsep)
     # One retry per task: a worker that dies twice running it loses its designs.
     env["DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES"] = "1"
-    env["BRISTLECRAWLER_NO_JAX_CACHE"] = "1"
     return env
 
 
