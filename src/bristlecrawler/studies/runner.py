@@ -147,10 +147,12 @@ def batch_tasks(p: Plan, size: int, resuming: Path | None = None) -> list[execut
 
 
 def _default_out(name: str) -> Path:
+    from bristlecrawler.io.output_paths import folder_in
+
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
-    path, i = Path("runs") / f"{stamp}-sweep-{name}", 1
+    path, i = folder_in("runs", f"{stamp}-sweep-{name}"), 1
     while path.exists():
-        path = path.with_name(f"{stamp}-sweep-{name}-{i}")
+        path = folder_in("runs", f"{stamp}-sweep-{name}-{i}")
         i += 1
     return path
 
