@@ -44,19 +44,24 @@ def drag_cmd(
 
     Writes drag.nc (xarray/NetCDF), drag.png, summary.json, config.json, meta.json.
     """
-    from bristlecrawler.crawler.drag import DragTest, quasi_static_ratio
+    from bristlecrawler.crawler.drag import quasi_static_ratio
     from bristlecrawler.fe import enable_compilation_cache
     from bristlecrawler.jobs.drag import run_drag
     from bristlecrawler.jobs.simulate import summary_json
     from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.drag import DragOptions, drag_estimate
     from bristlecrawler.scenario.load import apply_overrides, load_scenario
+    from bristlecrawler.scenario.strict import option_names, parse_model
 
+    values = {"direction": direction, "distance": distance, "speed": speed, "legs": legs}
+    opts = parse_model(DragOptions, values | {"load": load}, option_names(DragOptions))
     sc = load_scenario(scenario)
     if assign:
         sc = apply_overrides(sc, list(assign))
-    test = DragTest(direction, distance, speed, legs, 0, load)
+    test = opts.test()
     spec = to_spec(sc)
     test.check(spec)  # bad input: one line, before the warning and any work
+    estimate = drag_estimate(sc, test).check()
     ratio = quasi_static_ratio(spec, test)
     if ratio > 0.05:
         typer.echo(
@@ -64,6 +69,8 @@ def drag_cmd(
             f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)",
             err=True,
         )
+    if estimate.long:
+        typer.echo(f"note: {estimate.text()}", err=True)
     enable_compilation_cache()
     run = run_drag(
         sc,

@@ -63,8 +63,12 @@ def simulate_cmd(
     """
     from bristlecrawler.fe import enable_compilation_cache
     from bristlecrawler.jobs.simulate import run_simulation, summary_json
+    from bristlecrawler.scenario.cost import fe_crawler
 
     sc = _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk)
+    estimate = fe_crawler(sc)
+    if estimate is not None and estimate.check().long:
+        typer.echo(f"note: {estimate.text()}", err=True)
     enable_compilation_cache()
     run = run_simulation(
         sc,
