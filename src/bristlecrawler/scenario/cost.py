@@ -30,8 +30,12 @@ REDUCED_EXACT_S = 0.24
 #: Memory of one Dask worker process: 270 MB with JAX and the models imported, doubled
 #: for a compiled FE model and its records.
 WORKER_BYTES = 0.55e9
-#: Bytes a sweep keeps per design while it runs (its task, future and result row).
-DESIGN_BYTES = 4e3
+#: Bytes a sweep keeps per design (its values, its outputs and status when gathered, its
+#: part of the tasks in flight; rounded up).
+DESIGN_BYTES = 1e3
+#: Disk a sweep writes: a part file per task (3.9 kB for one design, 261 kB for 1,000)
+#: and the gathered store.
+PART_BYTES, PART_BYTES_PER_DESIGN, STORE_BYTES_PER_DESIGN = 4e3, 260.0, 250.0
 #: Work longer than this is announced before it starts, s.
 ANNOUNCE_S = 60.0
 
@@ -54,20 +58,32 @@ class Estimate:
     unit: str
     seconds: float
     memory: float
+    disk: float = 0.0
+    workers: int = 0
 
     def text(self) -> str:
+        time = f", {duration(self.seconds)} of CPU time" if self.seconds else ""
+        if self.seconds and self.workers > 1:
+            time += f" ({duration(self.seconds / self.workers)} on {self.workers} workers)"
+        disk = f", {_bytes(self.disk)} of disk" if self.disk else ""
         return (
-            f"{self.what}: about {_count(self.steps)} {self.unit}, {duration(self.seconds)} "
-            f"of CPU time, {_bytes(self.memory)} of memory"
+            f"{self.what}: about {_count(self.steps)} {self.unit}{time}, "
+            f"{_bytes(self.memory)} of memory{disk}"
         )
 
-    def check(self, max_steps: float | None = MAX_STEPS) -> Estimate:
+    def check(self, max_steps: float | None = MAX_STEPS, where: str = ".") -> Estimate:
         """InputError, with the estimate, where the machine cannot hold the work."""
         limit = machine_memory()
         if not (self.memory <= 0.8 * limit):
             raise InputError(
                 f"{self.text()}: more than this machine's {_bytes(limit)} can hold; "
                 "make the work smaller"
+            )
+        free = _free_disk(where)
+        if self.disk and not (self.disk <= 0.9 * free):
+            raise InputError(
+                f"{self.text()}: more than the {_bytes(free)} free on the disk; make the work "
+                "smaller (or its tasks larger: chunk)"
             )
         if max_steps is not None and not (self.steps <= max_steps):
             raise InputError(
@@ -97,6 +113,29 @@ def fe_crawler(sc) -> Estimate | None:
     return fe_run(
         "the run", stroke, sc.solver.dt_max, b.count * b.elements, b.count * (b.elements + 2)
     )
+
+
+def study(
+    name: str, designs: int, tasks: int, design_s: float, workers: int, compile_s: float
+) -> Estimate:
+    """A design study of ``designs`` designs in ``tasks`` tasks, ``design_s`` CPU seconds
+    each, on ``workers`` workers (0: a scheduler's, unknown) that compile for
+    ``compile_s`` s each."""
+    seconds = designs * design_s + max(workers, 1) * compile_s
+    memory = designs * DESIGN_BYTES + workers * WORKER_BYTES
+    disk = tasks * PART_BYTES + designs * (PART_BYTES_PER_DESIGN + STORE_BYTES_PER_DESIGN)
+    return Estimate(f"study {name}", designs, "designs", seconds, memory, disk, workers)
+
+
+def _free_disk(where: str) -> float:
+    path = os.path.abspath(where)
+    while not os.path.isdir(path) and os.path.dirname(path) != path:
+        path = os.path.dirname(path)
+    try:
+        st = os.statvfs(path)
+    except (OSError, AttributeError):
+        return math.inf
+    return float(st.f_bavail * st.f_frsize)
 
 
 def duration(seconds: float) -> str:
