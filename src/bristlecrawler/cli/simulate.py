@@ -110,6 +110,8 @@ def _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk):
         sets += ["output.figures=false", "output.animation=false"]
     if no_vtk:
         sets.append("output.vtk=false")
+    if actuator is not None and sc.actuation.history is not None:
+        sc = apply_values(sc, {"actuation.kind": actuator, "actuation.history": None})
     if sets:
         sc = apply_overrides(sc, sets)
     if history is not None:

@@ -157,6 +157,13 @@ class ActuationConfig(_Section):
     def _history(self) -> ActuationConfig:
         if self.kind == "history" and not self.history:
             raise ValueError("actuation.kind = 'history' needs actuation.history = 'file.csv'")
+        if self.kind != "history" and self.history is not None:
+            # A file that would be silently ignored: the user meant one of the two.
+            raise ValueError(
+                f"actuation.history is set but actuation.kind is {self.kind!r}, which does "
+                "not read it: set actuation.kind = 'history' too (simulate --history FILE "
+                "does both), or leave the history out"
+            )
         return self
 
 
