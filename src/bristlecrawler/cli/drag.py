@@ -46,6 +46,7 @@ def drag_cmd(
     """
     from bristlecrawler.crawler.drag import quasi_static_ratio
     from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.io.runs import check_out_dir
     from bristlecrawler.jobs.drag import run_drag
     from bristlecrawler.jobs.simulate import summary_json
     from bristlecrawler.scenario.convert import to_spec
@@ -62,6 +63,7 @@ def drag_cmd(
     spec = to_spec(sc)
     test.check(spec)  # bad input: one line, before the warning and any work
     estimate = drag_estimate(sc, test).check()
+    check_out_dir(out, replace)  # every refusal before the notes: bad input is one line
     ratio = quasi_static_ratio(spec, test)
     if ratio > 0.05:
         typer.echo(

@@ -62,12 +62,16 @@ def simulate_cmd(
     summary.json, config.json, scenario.toml (rerun it with simulate FILE), meta.json.
     """
     from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.io.runs import check_out_dir
     from bristlecrawler.jobs.simulate import run_simulation, summary_json
     from bristlecrawler.scenario.cost import fe_crawler
 
     sc = _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk)
     estimate = fe_crawler(sc)
-    if estimate is not None and estimate.check().long:
+    if estimate is not None:
+        estimate.check()
+    check_out_dir(out, replace)  # every refusal before the note: bad input is one line
+    if estimate is not None and estimate.long:
         typer.echo(f"note: {estimate.text()}", err=True)
     enable_compilation_cache()
     run = run_simulation(
