@@ -16,9 +16,12 @@ from dataclasses import dataclass
 from bristlecrawler.errors import InputError
 from bristlecrawler.scenario.schema import MAX_STEPS
 
-#: CPU seconds per time step of the lower bound, per beam element (paper: 22.5 s / 2,000
-#: steps / 40 elements).
-FE_STEP_S_PER_ELEMENT = 22.5 / 2000 / 40
+#: CPU seconds of the paper run's stroke (five cycles; for an FE design whose length a
+#: history file sets).
+FE_PAPER_RUN_S = 22.5
+#: CPU seconds per time step of the lower bound, per beam element (paper: 2,000 steps of
+#: 2 x 20 elements).
+FE_STEP_S_PER_ELEMENT = FE_PAPER_RUN_S / 2000 / 40
 #: A cold start's compilation of a structure's programs, s (63-71 s measured).
 FE_COMPILE_S = 70.0
 #: Bytes of one step's record per node (position, force, state; rounded up).

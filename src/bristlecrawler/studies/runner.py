@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.scenario.cost import Estimate
 from bristlecrawler.studies import execute, store
 from bristlecrawler.studies.designs import Base, Designs, expand, resolve_base
 from bristlecrawler.studies.evaluate import DesignStatus
@@ -76,7 +77,7 @@ class Plan:
     base: Base
     designs: Designs
     resolved: dict[str, Any]
-    cost: Any = None
+    cost: Estimate | None = None
 
 
 def plan(study_ref: str, opt: SweepOptions | None = None) -> Plan:
@@ -95,7 +96,7 @@ def plan(study_ref: str, opt: SweepOptions | None = None) -> Plan:
     return Plan(study, base, designs, resolved, cost)
 
 
-def estimate(study: Study, base: Base, n: int, opt: SweepOptions):
+def estimate(study: Study, base: Base, n: int, opt: SweepOptions) -> Estimate:
     """The study's designs, CPU time, memory and disk (:mod:`scenario.cost`), checked
     against the machine; local workers are counted in, a scheduler's are not."""
     from bristlecrawler.scenario import cost
@@ -105,7 +106,7 @@ def estimate(study: Study, base: Base, n: int, opt: SweepOptions):
         from bristlecrawler.scenario.load import scenario_from_dict
 
         run = cost.fe_crawler(scenario_from_dict(base.config, "base"))
-        design_s = run.seconds - cost.FE_COMPILE_S if run is not None else 22.5
+        design_s = run.seconds - cost.FE_COMPILE_S if run is not None else cost.FE_PAPER_RUN_S
         compile_s = cost.FE_COMPILE_S
     else:
         cfg = base.config
