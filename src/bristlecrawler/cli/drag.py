@@ -63,16 +63,8 @@ def drag_cmd(
     spec = to_spec(sc)
     test.check(spec)  # bad input: one line, before the warning and any work
     estimate = drag_estimate(sc, test).check()
-    check_out_dir(out, replace)  # every refusal before the notes: bad input is one line
-    ratio = quasi_static_ratio(spec, test)
-    if ratio > 0.05:
-        typer.echo(
-            f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
-            f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)",
-            err=True,
-        )
-    if estimate.long:
-        typer.echo(f"note: {estimate.text()}", err=True)
+    check_out_dir(out, replace)
+    notes = _notes(quasi_static_ratio(spec, test), speed, estimate)
     enable_compilation_cache()
     run = run_drag(
         sc,
@@ -81,11 +73,26 @@ def drag_cmd(
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
+        on_start=lambda: [typer.echo(n, err=True) for n in notes],
     )
     if as_json:
         typer.echo(summary_json(run.summary))
         return
     _print(run.summary)
+
+
+def _notes(ratio: float, speed: float, estimate) -> list[str]:
+    """What to say once the test starts (said earlier, a refusal after them would make
+    bad input more than one line)."""
+    notes = []
+    if ratio > 0.05:
+        notes.append(
+            f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
+            f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)"
+        )
+    if estimate.long:
+        notes.append(f"note: {estimate.text()}")
+    return notes
 
 
 def _print(s: dict) -> None:
