@@ -13,13 +13,14 @@ import shutil
 from pathlib import Path
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 from pydantic import BaseModel
 
 from bristlecrawler.cli.app import main
 from bristlecrawler.experiment.recording import CHANNEL_LIMITS
 from bristlecrawler.reduced.calibration import MAX_CYCLES, MAX_S, MAX_WORK
+from bristlecrawler.scenario.drag import DragOptions
 from bristlecrawler.scenario.experiment import AnalyzeOptions, SynthOptions
 from bristlecrawler.scenario.reduced import ReducedConfig
 from bristlecrawler.scenario.schema import MAX_LENGTH, Scenario
@@ -213,7 +214,87 @@ VALID = {
     "reduced": ["reduced", "--no-figures"],
     "simulate": ["simulate", "paper", "--no-figures"],
     "analyze": ["analyze", "rec.csv", "--no-figures"],
+    "drag": ["drag", "paper"],
+    "reproduce": ["reproduce", "--quick"],
 }
+
+#: Names that must not become part of a folder's name.
+UNSAFE_NAMES = st.one_of(
+    st.sampled_from(["../../escape", "a/b", "..", ".hidden", "", "/abs", "a b", "-x", "\u00e9"]),
+    st.text(min_size=1, max_size=80).filter(
+        lambda t: not (t[:1].isascii() and t[:1].isalnum()) or not t.isascii() or len(t) > 64
+    ),
+)
+
+#: A valid study; "{more}" takes extra top-level keys, "{axes}" the axes.
+STUDY = 'name = "s"\nmodel = "reduced"\n{more}\n[axes]\n{axes}\n'
+
+
+BAD_STUDY_KEYS = st.sampled_from(
+    [
+        ('samples = "3"', "s_max = { random = [1.0, 2.0] }"),
+        ("samples = 3", 's_max = { random = [1.0, 2.0], log = "yes" }'),
+        ("samples = 3", "s_max = { random = [1.0, 2.0], log = 1 }"),
+        ("samples = 3", 's_max = { lhs = ["1", 2.0] }'),
+        ("", "s_max = { linspace = [1.0, 2.0, 3.0] }"),
+        ("", "s_max = { linspace = [true, 2.0, 3] }"),
+        ("seed = true", "s_max = [10.0]"),
+        ("seed = -1", "s_max = [10.0]"),
+        ("chunk = 1.5", "s_max = [10.0]"),
+        ("combine = 1", "s_max = [10.0]"),
+        ('description = ["a"]', "s_max = [10.0]"),
+        ("", "nosuch = [1.0]"),
+        ("", "s_max = []"),
+        ("", 's_max = [1.0, "a"]'),
+        ("", "s_max = { linspace = [1.0, 100.0, 100000] }\nfp = { linspace = [0.1, 1.0, 1000] }"),
+    ]
+)
+
+
+def sweep_args(data, work: Path) -> list[str]:
+    """A sweep given a study file of the wrong types or sizes, an unsafe name, a bad
+    scheduler address or a machine's worth of workers: each refused before a cluster."""
+    kind = data.draw(st.sampled_from(["study", "name", "scheduler", "workers"]))
+    more, axes = data.draw(BAD_STUDY_KEYS) if kind == "study" else ("", "s_max = [10.0, 20.0]")
+    extra = ["--out", str(work / "new")]
+    if kind == "name":
+        more, extra = f"# unsafe\nname = {_toml(data.draw(UNSAFE_NAMES))}", []
+    elif kind == "scheduler":
+        extra.extend(["--scheduler", data.draw(st.text(max_size=30).filter(_not_an_address))])
+    elif kind == "workers":
+        many = st.one_of(st.integers(max_value=0), st.integers(10**3, 10**12))
+        extra.extend(["--workers", str(data.draw(many))])
+    text = STUDY.format(more=more, axes=axes)
+    if kind == "name":
+        text = text.replace('name = "s"\n', "")
+    (work / "study.toml").write_text(text)
+    return ["sweep", str(work / "study.toml"), *extra]
+
+
+def _toml(text: str) -> str:
+    import json
+
+    return json.dumps(text)
+
+
+def _not_an_address(text: str) -> bool:
+    from bristlecrawler.studies.execute import _ADDRESS
+
+    return _ADDRESS.fullmatch(text) is None
+
+
+def drag_args(data, work: Path) -> list[str]:
+    """drag with a bound broken, a name that would leave runs/, or work too large."""
+    out = ["--out", str(work / "new")]
+    kind = data.draw(st.integers(0, 3))
+    if kind == 0:
+        return ["drag", "paper", *data.draw(options_of(DragOptions, option_names(DragOptions)))]
+    if kind == 1:
+        return ["drag", "paper", "--set", f"name={_toml(data.draw(UNSAFE_NAMES))}"]
+    if kind == 2:  # within every bound, beyond the machine: refused with the estimate
+        legs = data.draw(st.integers(2_000, 10_000))
+        return ["drag", "paper", "--legs", str(legs), "--distance", "1e4", *out]
+    return ["drag", "paper", *data.draw(scenario_sets()), *out]
 
 
 def _args(command: str, data, work: Path) -> list[str]:
@@ -233,9 +314,19 @@ def _args(command: str, data, work: Path) -> list[str]:
         if data.draw(st.integers(0, 4)) == 0:
             (work / "h.csv").write_text(data.draw(BAD_HISTORY))
             return ["simulate", "paper", "--history", str(work / "h.csv"), *out]
+        if data.draw(st.integers(0, 4)) == 0:
+            return ["simulate", "paper", "--set", f"name={_toml(data.draw(UNSAFE_NAMES))}"]
         return ["simulate", "paper", *data.draw(scenario_sets()), *out]
     if command == "calibrate":
         return data.draw(calibrate_args())
+    if command == "drag":
+        return drag_args(data, work)
+    if command == "sweep":
+        return sweep_args(data, work)
+    if command == "reproduce":  # a recording with columns other than the ones read
+        header = data.draw(st.sampled_from(["t,left,right", "time_s,left_mm", "a,b,c"]))
+        (work / "cols.csv").write_text(f"{header}\n0,1,2\n1,2,3\n")
+        return ["reproduce", "--quick", "--recording", str(work / "cols.csv"), *out]
     if command == "analyze":
         rec = str(work / "rec.csv")
         if data.draw(st.booleans()):
@@ -244,6 +335,10 @@ def _args(command: str, data, work: Path) -> list[str]:
             )
             rec = str(work / "bad.csv")
             return ["analyze", rec, "--no-figures", *out]
+        if data.draw(st.booleans()):  # a column named that the recording does not have
+            option = data.draw(st.sampled_from(["--time", "--left", "--right", "--force"]))
+            column = data.draw(st.from_regex(r"[a-z_]{1,12}", fullmatch=True))
+            return ["analyze", rec, "--no-figures", option, column + "_x", *out]
         names = option_names(AnalyzeOptions)
         return ["analyze", rec, "--no-figures", *data.draw(options_of(AnalyzeOptions, names)), *out]
     if command == "synth-recording":
@@ -258,21 +353,28 @@ def _args(command: str, data, work: Path) -> list[str]:
     return [command, word]
 
 
-@pytest.mark.parametrize(
-    "command",
-    ["reduced", "calibrate", "simulate", "analyze", "synth-recording", "verify", "version"],
-)
+COMMANDS = ["reduced", "calibrate", "simulate", "analyze", "synth-recording", "verify", "version"]
+
+
+@pytest.mark.parametrize("command", [*COMMANDS, "drag", "sweep", "reproduce"])
+@settings(max_examples=40, deadline=None)
 @given(data=st.data())
 def test_bad_values_give_one_line_exit_2_and_change_nothing(command, data, work):
     args = _args(command, data, work)
     before = _snapshot(work)
     with pytest.MonkeyPatch.context() as mp:
+        # Run from the work folder: a default run folder (runs/...) would show there.
+        mp.chdir(work)
         mp.setattr("bristlecrawler.jobs.simulate.solve", _never)
         mp.setattr("bristlecrawler.jobs.reduced.simulate", _never)
+        mp.setattr("bristlecrawler.jobs.drag.solve_drag", _never)
+        mp.setattr("bristlecrawler.studies.execute.connect", _never)
+        mp.setattr("bristlecrawler.jobs.reproduce.run._run_parts", _never)
         try:
             code, err = _run(args)
         finally:  # a failing case leaves nothing that would change its replay
             shutil.rmtree(work / "new", ignore_errors=True)
+            shutil.rmtree(work / "runs", ignore_errors=True)
             (work / "new.csv").unlink(missing_ok=True)
     assert code == 2, (args, err)
     assert err.startswith("error: ") and err.count("\n") == 1 and err.endswith("\n"), (args, err)

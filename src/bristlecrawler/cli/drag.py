@@ -44,26 +44,27 @@ def drag_cmd(
 
     Writes drag.nc (xarray/NetCDF), drag.png, summary.json, config.json, meta.json.
     """
-    from bristlecrawler.crawler.drag import DragTest, quasi_static_ratio
+    from bristlecrawler.crawler.drag import quasi_static_ratio
     from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.io.runs import check_out_dir
     from bristlecrawler.jobs.drag import run_drag
     from bristlecrawler.jobs.simulate import summary_json
     from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.drag import DragOptions, drag_estimate
     from bristlecrawler.scenario.load import apply_overrides, load_scenario
+    from bristlecrawler.scenario.strict import option_names, parse_model
 
+    values = {"direction": direction, "distance": distance, "speed": speed, "legs": legs}
+    opts = parse_model(DragOptions, values | {"load": load}, option_names(DragOptions))
     sc = load_scenario(scenario)
     if assign:
         sc = apply_overrides(sc, list(assign))
-    test = DragTest(direction, distance, speed, legs, 0, load)
+    test = opts.test()
     spec = to_spec(sc)
     test.check(spec)  # bad input: one line, before the warning and any work
-    ratio = quasi_static_ratio(spec, test)
-    if ratio > 0.05:
-        typer.echo(
-            f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
-            f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)",
-            err=True,
-        )
+    estimate = drag_estimate(sc, test).check()
+    check_out_dir(out, replace)
+    notes = _notes(quasi_static_ratio(spec, test), speed, estimate)
     enable_compilation_cache()
     run = run_drag(
         sc,
@@ -72,11 +73,26 @@ def drag_cmd(
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
+        on_start=lambda: [typer.echo(n, err=True) for n in notes],
     )
     if as_json:
         typer.echo(summary_json(run.summary))
         return
     _print(run.summary)
+
+
+def _notes(ratio: float, speed: float, estimate) -> list[str]:
+    """What to say once the test starts (said earlier, a refusal after them would make
+    bad input more than one line)."""
+    notes = []
+    if ratio > 0.05:
+        notes.append(
+            f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
+            f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)"
+        )
+    if estimate.long:
+        notes.append(f"note: {estimate.text()}")
+    return notes
 
 
 def _print(s: dict) -> None:

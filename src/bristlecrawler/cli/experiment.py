@@ -18,8 +18,13 @@ def analyze_cmd(
         float | None, typer.Option("--work", help="actuator work over the analysed cycles, mJ")
     ] = None,
     time_col: Annotated[
-        str, typer.Option("--time", help="time column/channel (s); absent -> uniform at --rate")
-    ] = "time_s",
+        str | None,
+        typer.Option(
+            "--time",
+            help="time column/channel (s), which must exist [default: time_s if present, "
+            "else uniform samples at --rate]",
+        ),
+    ] = None,
     left_col: Annotated[
         str, typer.Option("--left", help="left (rear) end displacement column, mm")
     ] = "left_mm",
@@ -27,8 +32,12 @@ def analyze_cmd(
         str, typer.Option("--right", help="right (front) end displacement column, mm")
     ] = "right_mm",
     force_col: Annotated[
-        str, typer.Option("--force", help="connector force column, N (used if present)")
-    ] = "force_N",
+        str | None,
+        typer.Option(
+            "--force",
+            help="connector force column, N, which must exist [default: force_N if present]",
+        ),
+    ] = None,
     flip_left: Annotated[bool, typer.Option("--flip-left", help="negate the left channel")] = False,
     flip_right: Annotated[
         bool, typer.Option("--flip-right", help="negate the right channel")
@@ -61,11 +70,13 @@ def analyze_cmd(
         option_names(AnalyzeOptions),
     )
     check_out_dir(out, replace)
+    named = tuple(r for r, v in (("time", time_col), ("force", force_col)) if v is not None)
     cmap = ChannelMap(
-        time=time_col,
+        time=time_col or "time_s",
         left=left_col,
         right=right_col,
-        force=force_col,
+        force=force_col or "force_N",
+        named=named,
         left_sign=-1.0 if flip_left else 1.0,
         right_sign=-1.0 if flip_right else 1.0,
         rate_hz=opts.rate,

@@ -62,9 +62,16 @@ def simulate_cmd(
     summary.json, config.json, scenario.toml (rerun it with simulate FILE), meta.json.
     """
     from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.io.runs import check_out_dir
     from bristlecrawler.jobs.simulate import run_simulation, summary_json
+    from bristlecrawler.scenario.cost import fe_crawler
 
     sc = _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk)
+    estimate = fe_crawler(sc)
+    if estimate is not None:
+        estimate.check()
+    check_out_dir(out, replace)
+    long = estimate is not None and estimate.long
     enable_compilation_cache()
     run = run_simulation(
         sc,
@@ -72,6 +79,8 @@ def simulate_cmd(
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
+        # Said once the folder is claimed: a refusal after it would make bad input two lines.
+        on_start=(lambda: typer.echo(f"note: {estimate.text()}", err=True)) if long else None,
     )
     for w in (*run.notes, *run.summary["warnings"]):
         typer.echo(f"warning: {w}", err=True)
@@ -106,6 +115,8 @@ def _scenario(scenario, cycles, assign, actuator, history, no_figures, no_vtk):
         sets += ["output.figures=false", "output.animation=false"]
     if no_vtk:
         sets.append("output.vtk=false")
+    if actuator is not None and sc.actuation.history is not None:
+        sc = apply_values(sc, {"actuation.kind": actuator, "actuation.history": None})
     if sets:
         sc = apply_overrides(sc, sets)
     if history is not None:

@@ -79,6 +79,7 @@ def sweep_cmd(
         progress=progress,
         batch=batch,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
+        note=lambda text: typer.echo(f"note: {text}", err=True),
     )
     summary = run_sweep(study, options)
     if as_json:

@@ -9,7 +9,9 @@ defaults are ``time_s``, ``left_mm``, ``right_mm`` (and optional ``current_A``, 
 from __future__ import annotations
 
 import csv
+import itertools
 import os
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,6 +31,8 @@ class ChannelMap:
         left_sign, right_sign: multiply the raw channel so that motion is positive.
         rate_hz: sample rate when there is no time channel, samples/s.
         group: TDMS group (default: the first group holding the channels).
+        named: roles (``"time"``, ``"force"``, ...) the user named, which must be present
+            (left and right always must).
     """
 
     time: str | None = "time_s"
@@ -41,6 +45,7 @@ class ChannelMap:
     right_sign: float = 1.0
     rate_hz: float = DEFAULT_RATE_HZ
     group: str | None = None
+    named: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         for name in ("left_sign", "right_sign"):
@@ -75,10 +80,16 @@ def _build(columns: dict[str, np.ndarray], cmap: ChannelMap, source: str, dt: fl
     )
 
 
+#: Data rows parsed at a time: a large recording is read in chunks of this many rows, so
+#: that its text is never held whole (the samples, as float64, are what stays).
+CHUNK_ROWS = 65_536
+
+
 def read_csv(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recording:
     """Read a CSV recording (header row; '#' comment lines and blank lines are skipped).
 
-    Empty cells and non-numeric cells such as ``nan`` become NaN (sensor dropouts).
+    Empty cells and ``nan`` are sensor dropouts (NaN); other cells that are not numbers
+    (``abc``) are read as dropouts too, counted, and reported in one warning.
     """
     cmap = cmap or ChannelMap()
     path = os.fspath(path)
@@ -86,33 +97,81 @@ def read_csv(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recordi
         raise InputError(f"recording not found: {path}")
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
-            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
+            rows = (r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#"))
+            header = [h.strip() for h in next(rows, [])]
+            if header and all(_is_number(h) for h in header if h):
+                raise InputError(f"{path}: first row must be a header naming the columns")
+            _check_named(header, cmap, path)
+            data, junk = _read_rows(rows, header, path)
     except UnicodeDecodeError:
         raise InputError(f"{path} is not a text CSV file") from None
     except csv.Error as exc:
         raise InputError(f"{path}: not a readable CSV file ({exc})") from None
     except OSError as exc:
         raise InputError(f"cannot read recording {path}: {exc.strerror}") from None
-    if len(rows) < 2:
+    if data.shape[0] == 0:
         raise InputError(f"{path}: no data rows")
-    header = [h.strip() for h in rows[0]]
-    if all(_is_number(h) for h in header if h):
-        raise InputError(f"{path}: first row must be a header naming the columns")
-    data = np.full((len(rows) - 1, len(header)), np.nan)
-    for i, row in enumerate(rows[1:]):
-        if len(row) != len(header):
-            raise InputError(
-                f"{path}, data row {i + 1}: {len(row)} cells, header has {len(header)}"
-            )
-        for j, cell in enumerate(row):
-            cell = cell.strip()
-            if cell and _is_number(cell):
-                data[i, j] = float(cell)
+    if junk:
+        count, first = junk
+        warnings.warn(
+            f"{path}: {count} cell{'s' if count > 1 else ''} that are not numbers (first: "
+            f"{first}) read as dropouts",
+            stacklevel=2,
+        )
     columns = {h: data[:, j] for j, h in enumerate(header)}
     if cmap.time and cmap.time in columns and not np.all(np.isfinite(columns[cmap.time])):
         keep = np.isfinite(columns[cmap.time])
         columns = {h: v[keep] for h, v in columns.items()}
     return _build(columns, cmap, path, None)
+
+
+def _read_rows(rows, header: list[str], path: str):
+    """The data rows as a float array, parsed CHUNK_ROWS at a time, and (count, where the
+    first is) of the cells that are neither numbers, empty nor ``nan``."""
+    chunks, count, first, done = [], 0, "", 0
+    while True:
+        block = list(itertools.islice(rows, CHUNK_ROWS))
+        if not block:
+            break
+        for i, row in enumerate(block):
+            if len(row) != len(header):
+                raise InputError(
+                    f"{path}, data row {done + i + 1}: {len(row)} cells, header has {len(header)}"
+                )
+        try:
+            chunk = np.array(block, dtype=np.float64)
+        except ValueError:  # empty or non-numeric cells: the slow way, cell by cell
+            chunk, bad = _parse_cells(block, header, done)
+            count += len(bad)
+            first = first or (bad[0] if bad else "")
+        chunks.append(chunk)
+        done += len(block)
+    data = np.concatenate(chunks) if chunks else np.empty((0, len(header)))
+    return data, (count, first) if count else None
+
+
+def _parse_cells(block: list[list[str]], header: list[str], done: int):
+    chunk = np.full((len(block), len(header)), np.nan)
+    bad = []
+    for i, row in enumerate(block):
+        for j, cell in enumerate(row):
+            cell = cell.strip()
+            if not cell:
+                continue
+            try:
+                chunk[i, j] = float(cell)
+            except ValueError:
+                bad.append(f"{cell[:20]!r} in {header[j]}, data row {done + i + 1}")
+    return chunk, bad
+
+
+def _check_named(columns, cmap: ChannelMap, source: str) -> None:
+    """InputError for a column the user named (``cmap.named``) that is not there."""
+    for role in cmap.named:
+        name = getattr(cmap, role)
+        if name is not None and name not in columns:
+            available = ", ".join(columns) or "none"
+            raise InputError(f"{source}: no {role} column '{name}' (available: {available})")
 
 
 def _is_number(text: str) -> bool:
@@ -148,6 +207,7 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
         group = tdms[cmap.group]
     else:
         group = next((g for g in groups if cmap.left in [c.name for c in g.channels()]), groups[0])
+    _check_named([c.name for c in group.channels()], cmap, path)
     columns = {c.name: np.asarray(c[:], dtype=float) for c in group.channels()}
     left = group[cmap.left] if cmap.left in columns else None
     dt = None

@@ -9,9 +9,42 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 from pathlib import Path
 
 from bristlecrawler.errors import InputError
+
+#: What a name that becomes part of a folder's name (a scenario's, a study's) may be:
+#: letters, digits, ``_``, ``.`` and ``-``, starting with a letter or a digit, so that it
+#: can neither climb out of the runs folder (``..``, ``/``) nor hide (a leading dot).
+SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+
+
+def check_safe_name(name: str) -> str:
+    """``name`` if it matches :data:`SAFE_NAME`; ValueError saying what a name may be."""
+    if not isinstance(name, str) or not SAFE_NAME.fullmatch(name):
+        raise ValueError(
+            "a name must be 1 to 64 letters, digits, '_', '.' or '-', starting with a letter "
+            f"or a digit (it names the run folder), got {name!r}"[:300]
+        )
+    return name
+
+
+def safe_stem(text: str) -> str:
+    """A file's stem made a safe name: every other character replaced by ``-``."""
+    name = re.sub(r"[^A-Za-z0-9_.-]", "-", text).lstrip("._-")[:64]
+    return name or "custom"
+
+
+def folder_in(root: str | os.PathLike, name: str) -> Path:
+    """``root/name``, a run folder made from input: InputError unless ``name`` is one
+    plain folder name whose resolved path lies directly inside the resolved ``root``."""
+    root = Path(root)
+    path = root / name
+    inside = Path(os.path.realpath(root))
+    if Path(name).name != name or Path(os.path.realpath(path)).parent != inside:
+        raise InputError(f"run folder name {name!r} would leave {root}/"[:300])
+    return path
 
 
 def check_new_file(path: str | os.PathLike, replace: bool = False) -> None:

@@ -34,7 +34,14 @@ from typing import Any
 from bristlecrawler.errors import InputError, Interrupted
 from bristlecrawler.io.atomic import atomic_write_text
 from bristlecrawler.io.jsonio import dumps_strict
-from bristlecrawler.io.output_paths import check_new_file, check_parent, output_folder, shown, why
+from bristlecrawler.io.output_paths import (
+    check_new_file,
+    check_parent,
+    folder_in,
+    output_folder,
+    shown,
+    why,
+)
 from bristlecrawler.io.provenance import RunInfo, git_revision
 
 #: ``meta.json`` "status" of a run whose every file was written.
@@ -282,7 +289,8 @@ def claim_run_dir(
     command: str = "",
 ) -> RunFolder:
     """Claim the output folder of a new run (see the module): ``out``, or
-    ``<root>/<timestamp>-<kind>`` when None (with a suffix -1, -2, ... if that is taken).
+    ``<root>/<timestamp>-<kind>`` when None (with a suffix -1, -2, ... if that is taken;
+    InputError if ``kind`` would place it anywhere but directly inside ``root``).
 
     Raises InputError, before any work and without changing anything, when another run is
     writing into the folder, when it holds a run (complete or not; ``replace`` replaces it
@@ -291,9 +299,9 @@ def claim_run_dir(
     if out is not None:
         return _claim(output_folder(Path(out)), replace, command)
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
-    base = Path(root) / f"{stamp}-{kind}"
+    base = folder_in(root, f"{stamp}-{kind}")  # before anything is created
     for i in range(1000):
-        target = base if i == 0 else base.with_name(f"{base.name}-{i}")
+        target = base if i == 0 else folder_in(root, f"{base.name}-{i}")
         if target.exists():
             continue
         try:

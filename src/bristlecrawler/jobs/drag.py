@@ -9,6 +9,7 @@ resolved scenario and the test), ``meta.json``, ``drag.nc`` (the series, xarray/
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -45,14 +46,17 @@ def run_drag(
     progress: bool | None = None,
     command: str = "",
     replace: bool = False,
+    on_start: Callable[[], None] | None = None,
 ) -> DragRun:
-    """Run the drag test of scenario ``sc``; with ``write``, put the results in ``out``."""
+    """Run the drag test of scenario ``sc``; with ``write``, put the results in ``out``.
+    ``on_start`` is called once every input is checked and the folder claimed."""
     from bristlecrawler.crawler.drag import build_drag
     from bristlecrawler.scenario.convert import to_spec
 
     spec = to_spec(sc)
     build_drag(spec, test)  # the test's checks, before any folder is claimed
     if not write:
+        _started(on_start)
         r = solve_drag(spec, test, progress)
         return DragRun(r, r.summary(), None)
 
@@ -60,6 +64,7 @@ def run_drag(
     from bristlecrawler.io.runs import claim_run_dir
 
     with claim_run_dir(out, f"drag-{sc.name}", replace=replace, command=command) as run:
+        _started(on_start)
         r = solve_drag(spec, test, progress)
         config = {"scenario": sc.model_dump(mode="json"), "drag": dataclasses.asdict(test)}
         run.write_metadata(config, command)
@@ -72,3 +77,8 @@ def run_drag(
         summary = r.summary() | {"output_dir": str(run.target)}
         run.write_json("summary.json", summary)
     return DragRun(r, summary, run.target)
+
+
+def _started(on_start: Callable[[], None] | None) -> None:
+    if on_start is not None:
+        on_start()

@@ -12,6 +12,7 @@ revision, command), ``crawler.nc`` (time series and frames, xarray/NetCDF),
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -121,23 +122,27 @@ def run_simulation(
     progress: bool | None = None,
     command: str = "",
     replace: bool = False,
+    on_start: Callable[[], None] | None = None,
 ) -> SimulationRun:
     """Run scenario ``sc``; with ``write``, put the results in ``out`` (see the module).
 
     The folder is claimed before the solve and appears complete or not at all
     (:func:`bristlecrawler.io.runs.claim_run_dir`; ``replace`` replaces a run already there).
+    ``on_start`` is called once every input is checked and the folder claimed.
     """
     from bristlecrawler.scenario.convert import to_spec
 
     spec = to_spec(sc)  # reads and checks a history file, checks the design: before any work
     check_stroke(sc, spec.actuation.stroke_duration(spec.segments))
     if not write:
+        _started(on_start)
         h = solve(spec, progress)
         return SimulationRun(h, summarize(h, sc), None)
 
     from bristlecrawler.io.runs import claim_run_dir
 
     with claim_run_dir(out, f"simulate-{sc.name}", replace=replace, command=command) as run:
+        _started(on_start)
         h = solve(spec, progress)
         summary = summarize(h, sc) | {"output_dir": str(run.target)}
         if progress is not False:  # drawing the figures and the animation takes a while
@@ -194,3 +199,8 @@ def _write_results(run, h: CrawlerHistory, sc: Scenario, command: str) -> None:
         from bristlecrawler.viz.crawler import animate
 
         animate(framed, out_dir / "crawler")
+
+
+def _started(on_start: Callable[[], None] | None) -> None:
+    if on_start is not None:
+        on_start()

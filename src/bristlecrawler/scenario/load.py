@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.io.output_paths import safe_stem
 from bristlecrawler.scenario.schema import Scenario, check_substrate_scale
 from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.substrate import parse_substrate
@@ -116,7 +117,7 @@ def _raw(name_or_path: str, origin: Path | None, depth: int = 0) -> dict[str, An
     if not isinstance(base, str) or not base:
         raise InputError(f"{where}: base must be a scenario name or a .toml path, got {base!r}")
     merged = _merge(_raw(base, here, depth + 1), data)
-    merged["name"] = data.get("name", here.stem if here is not None else name_or_path)
+    merged["name"] = data.get("name", safe_stem(here.stem) if here is not None else name_or_path)
     merged["description"] = data.get("description", f"{base} with the changes of {where}")
     return merged
 

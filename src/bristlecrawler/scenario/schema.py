@@ -11,7 +11,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from bristlecrawler.crawler.spec import Actuation, Body, Bristle, Contact, Damping, Solver
-from bristlecrawler.scenario.strict import StrictSection
+from bristlecrawler.scenario.strict import SafeName, StrictSection
 from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
 
 _BODY, _BRISTLE, _CONTACT = Body(), Bristle(), Contact()
@@ -157,6 +157,13 @@ class ActuationConfig(_Section):
     def _history(self) -> ActuationConfig:
         if self.kind == "history" and not self.history:
             raise ValueError("actuation.kind = 'history' needs actuation.history = 'file.csv'")
+        if self.kind != "history" and self.history is not None:
+            # A file that would be silently ignored: the user meant one of the two.
+            raise ValueError(
+                f"actuation.history is set but actuation.kind is {self.kind!r}, which does "
+                "not read it: set actuation.kind = 'history' too (simulate --history FILE "
+                "does both), or leave the history out"
+            )
         return self
 
 
@@ -317,7 +324,11 @@ class ContactConfig(_Section):
 class Scenario(_Section):
     """A complete finite-element crawler scenario."""
 
-    name: str = Field("custom", description="name of the scenario, used in the run folder's name")
+    name: SafeName = Field(
+        "custom",
+        description="name of the scenario, used in the run folder's name: letters, digits, "
+        "'_', '.' and '-', at most 64",
+    )
     description: str = Field("", description="one line on what the scenario is")
     body: BodyConfig = BodyConfig()
     bristle: BristleConfig = BristleConfig()
@@ -352,8 +363,13 @@ class Scenario(_Section):
             )
         if self.actuation.kind != "history":
             check_step_count(self, self.actuation.cycles * self.actuation.period)
-        if self.bristle.thickness_tip > self.bristle.thickness_clamp * 50:
-            raise ValueError("bristle.thickness_tip is implausibly larger than the clamp's")
+        if self.bristle.thickness_tip > self.bristle.thickness_clamp:
+            # The bristle tapers from its clamp: a thicker tip is a typo, not a design.
+            raise ValueError(
+                f"bristle.thickness_tip ({self.bristle.thickness_tip:g} mm) must not exceed "
+                f"bristle.thickness_clamp ({self.bristle.thickness_clamp:g} mm): the bristle "
+                "tapers from its clamp"
+            )
         if self.solver.dt_min >= self.solver.dt_max:
             raise ValueError("solver.dt_min must be smaller than solver.dt_max")
         if self.solver.freeze_iterations >= self.solver.max_iterations:

@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
-from typing import Any, TypeVar
+from typing import Annotated, Any, TypeVar
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError, model_validator
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.io.output_paths import check_safe_name
+
+#: A name that becomes part of a run folder's name (see :data:`io.output_paths.SAFE_NAME`).
+SafeName = Annotated[str, AfterValidator(check_safe_name)]
 
 M = TypeVar("M", bound=BaseModel)
 

@@ -11,10 +11,13 @@ task's designs recorded as lost.
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import logging
 import os
+import re
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -94,21 +97,32 @@ def lost_result(n: int, message: str) -> dict[str, np.ndarray]:
     }
 
 
+_ADDRESS = re.compile(
+    r"(?:(?:tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9][A-Za-z0-9_.-]*):([0-9]{1,5})"
+)
+
+
+def check_address(scheduler: str) -> None:
+    """InputError unless ``scheduler`` reads as a Dask scheduler's address,
+    ``[protocol://]host:port`` (protocol tcp, tls, ws, wss or ucx): checked on sight, with
+    no network wait."""
+    m = _ADDRESS.fullmatch(scheduler)
+    if m is None or not 0 < int(m.group(2)) < 65536:
+        raise InputError(
+            f"--scheduler {scheduler!r}"[:120] + " is not a Dask scheduler address: give "
+            "[tcp://]host:port, e.g. tcp://127.0.0.1:8786"
+        )
+
+
 def connect(scheduler: str | None, workers: int | None, timeout_s: float = CONNECT_TIMEOUT_S):
-    """A Dask client (and the LocalCluster it owns, or None). An unreachable scheduler is
-    an InputError after ``timeout_s`` seconds."""
+    """A Dask client (and the LocalCluster it owns, or None). An unreachable scheduler,
+    or one that does not answer, is an InputError after ``timeout_s`` seconds."""
     from distributed import Client, LocalCluster
 
-    logging.getLogger("distributed").setLevel(logging.ERROR)
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
     if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout=timeout_s, set_as_default=False, asynchronous=False)
-        except (OSError, TimeoutError, ValueError) as exc:
-            reason = " ".join(str(exc).split())[:200] or type(exc).__name__
-            raise InputError(
-                f"cannot reach the Dask scheduler at {scheduler} within {timeout_s:g} s ({reason})"
-            ) from None
-        return client, None
+        check_address(scheduler)
+        return _client(Client, scheduler, timeout_s), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(
         n_workers=n,
@@ -118,6 +132,47 @@ def connect(scheduler: str | None, workers: int | None, timeout_s: float = CONNE
         silence_logs=logging.ERROR,
     )
     return Client(cluster, set_as_default=False), cluster
+
+
+def _client(Client, scheduler: str, timeout_s: float):
+    """Dask's own timeout covers the connection, not a handshake that never comes: the
+    client is made in a daemon thread (which cannot hold up the exit), and given up when
+    ``timeout_s`` has passed."""
+    import threading
+
+    got: dict[str, Any] = {}
+
+    def make() -> None:
+        try:
+            got["client"] = Client(scheduler, timeout=timeout_s, set_as_default=False)
+        except BaseException as exc:  # reported by the caller
+            got["error"] = exc
+        if got.get("late"):
+            disconnect(got.get("client"), None)
+
+    thread = threading.Thread(target=make, name="dask-connect", daemon=True)
+    thread.start()
+    thread.join(timeout_s + 1.0)
+    if "client" in got:
+        return got["client"]
+    got["late"] = True
+    exc = got.get("error")
+    reason = (" ".join(str(exc).split())[:200] or type(exc).__name__) if exc else "no answer"
+    raise InputError(
+        f"cannot reach the Dask scheduler at {scheduler} within {timeout_s:g} s ({reason})"
+    )
+
+
+def disconnect(client, cluster) -> None:
+    """Close the client, then its cluster, quietly: a worker's last heartbeat to a
+    scheduler already gone is not news to the user."""
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
+    with contextlib.suppress(Exception):
+        if client is not None:
+            client.close()
+    with contextlib.suppress(Exception):
+        if cluster is not None:
+            cluster.close()
 
 
 @dataclass(frozen=True)
@@ -130,28 +185,39 @@ class Task:
     args: tuple
 
 
-def run_tasks(client, tasks: list[Task], prefix: str, on_done, on_tick=None) -> None:
+def run_tasks(
+    client, tasks: Iterable[Task], prefix: str, on_done, on_tick=None, window: int | None = None
+) -> None:
     """Submit ``tasks`` and call ``on_done(task, result)`` in the client as each finishes
-    (a lost task gets :func:`lost_result`); ``on_tick(running_designs)`` every 0.25 s."""
+    (a lost task gets :func:`lost_result`); ``on_tick(running_designs)`` every 0.25 s.
+    At most ``window`` tasks [default: four per worker thread, at least 64] are submitted
+    at a time, so that a study of millions of tasks holds only those in memory."""
     from distributed import as_completed
 
-    futures = {}
-    for task in tasks:
-        fut = client.submit(task.fn, *task.args, key=f"{prefix}-{task.number}", pure=False)
-        futures[fut] = task
-    by_key = {f.key: t for f, t in futures.items()}
-    pending = as_completed(list(futures), loop=client.loop)
-    left = len(futures)
-    while left:
+    source = iter(tasks)
+    if window is None:
+        window = max(64, 4 * sum(client.nthreads().values()))
+    futures, by_key = {}, {}
+    pending = as_completed(loop=client.loop)
+
+    def submit(count: int) -> None:
+        for task in itertools.islice(source, count):
+            fut = client.submit(task.fn, *task.args, key=f"{prefix}-{task.number}", pure=False)
+            futures[fut], by_key[fut.key] = task, task
+            pending.add(fut)
+
+    submit(window)
+    while futures:
         batch = pending.next_batch(block=False)
         for fut in batch:
-            task = futures[fut]
-            left -= 1
+            task = futures.pop(fut)
+            by_key.pop(fut.key, None)
             if fut.status == "finished":
                 on_done(task, fut.result())
             else:
                 on_done(task, lost_result(task.index.size, f"task lost: {_why(fut)}"))
             fut.release()
+        submit(len(batch))
         if not batch and on_tick is not None:
             on_tick(_running(client, by_key))
         if not batch:

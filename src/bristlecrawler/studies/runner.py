@@ -11,7 +11,9 @@
 from __future__ import annotations
 
 import datetime as _dt
+import os
 import time
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -19,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.scenario.cost import Estimate
 from bristlecrawler.studies import execute, store
 from bristlecrawler.studies.designs import Base, Designs, expand, resolve_base
 from bristlecrawler.studies.evaluate import DesignStatus
@@ -34,7 +37,8 @@ class SweepOptions:
     running Dask scheduler [default: a LocalCluster]; workers: LocalCluster workers
     [default: one per core]; resume: complete the study already in ``out``; figures:
     draw them; progress: bar on stderr [default: on a terminal]; command: for meta.json;
-    connect_timeout_s: how long to try to reach ``scheduler`` before giving up."""
+    connect_timeout_s: how long to try to reach ``scheduler`` before giving up; note:
+    called with the study's cost estimate before it starts."""
 
     out: Path | None = None
     scheduler: str | None = None
@@ -45,10 +49,18 @@ class SweepOptions:
     command: str = ""
     connect_timeout_s: float = execute.CONNECT_TIMEOUT_S
     batch: int | None = None
+    note: Callable[[str], None] | None = None
 
     def __post_init__(self) -> None:
+        from bristlecrawler.scenario.cost import WORKER_BYTES, Estimate
+
         if self.workers is not None and self.workers < 1:
             raise InputError(f"--workers must be >= 1, got {self.workers}")
+        if self.workers is not None:
+            n = self.workers
+            Estimate(f"--workers {n}", n, "worker processes", 0.0, n * WORKER_BYTES).check(None)
+        if self.scheduler is not None:
+            execute.check_address(self.scheduler)
         if self.workers is not None and self.scheduler is not None:
             raise InputError("--workers sizes the local cluster; not with --scheduler")
         if self.batch is not None and not (isinstance(self.batch, int) and self.batch >= 1):
@@ -65,35 +77,72 @@ class Plan:
     base: Base
     designs: Designs
     resolved: dict[str, Any]
+    cost: Estimate | None = None
 
 
-def plan(study_ref: str) -> Plan:
-    """Load, resolve, expand and validate a study (InputError on the first problem)."""
+def plan(study_ref: str, opt: SweepOptions | None = None) -> Plan:
+    """Load, resolve, expand and validate a study (InputError on the first problem); its
+    cost is estimated (and refused beyond what the machine holds) before the validation."""
+    opt = opt or SweepOptions()
     study, folder = load_study(study_ref)
     base = resolve_base(study, folder)
     designs = expand(study, base)
+    cost = estimate(study, base, designs.n, opt)
     validate_designs(base, designs)
     identity = study.model_dump(mode="json", exclude={"base", "description"})
     resolved: dict[str, Any] = {"study": identity, "base_config": base.config}
     resolved = {"fingerprint": store.fingerprint(resolved)} | resolved
     resolved["study"]["description"] = study.description
-    return Plan(study, base, designs, resolved)
+    return Plan(study, base, designs, resolved, cost)
 
 
-def tasks_of(p: Plan) -> list[execute.Task]:
-    """The study's tasks in order: ``chunk`` consecutive designs each."""
+def estimate(study: Study, base: Base, n: int, opt: SweepOptions) -> Estimate:
+    """The study's designs, CPU time, memory and disk (:mod:`scenario.cost`), checked
+    against the machine; local workers are counted in, a scheduler's are not."""
+    from bristlecrawler.scenario import cost
+
+    workers = 0 if opt.scheduler is not None else opt.workers or os.cpu_count() or 1
+    if base.model == "fe":
+        from bristlecrawler.scenario.load import scenario_from_dict
+
+        run = cost.fe_crawler(scenario_from_dict(base.config, "base"))
+        design_s = run.seconds - cost.FE_COMPILE_S if run is not None else cost.FE_PAPER_RUN_S
+        compile_s = cost.FE_COMPILE_S
+    else:
+        cfg = base.config
+        closed = study.reduced_solver == "auto" and "bristles" not in study.axes
+        closed &= cfg["bristles"] == 2 and cfg["history"] is None
+        design_s = cost.REDUCED_CLOSED_FORM_S if closed else cost.REDUCED_EXACT_S
+        compile_s = 0.0
+    tasks = -(-n // study.tasks_chunk)
+    found = cost.study(study.name, n, tasks, design_s, workers, compile_s)
+    return found.check(None, str(opt.out or "runs"))
+
+
+def task_count(p: Plan, finished: set[int]) -> tuple[int, int]:
+    """Tasks and designs left to run, ``finished`` tasks skipped."""
     chunk, n = p.study.tasks_chunk, p.designs.n
-    out = []
+    total = -(-n // chunk)
+    done = [t for t in finished if 0 <= t < total]
+    designs = n - sum(min(chunk, n - t * chunk) for t in done)
+    return total - len(done), designs
+
+
+def tasks_of(p: Plan, finished: frozenset[int] | set[int] = frozenset()) -> Iterator[execute.Task]:
+    """The study's tasks in order, ``chunk`` consecutive designs each, made as they are
+    submitted (a study of millions of designs starts at once)."""
+    chunk, n = p.study.tasks_chunk, p.designs.n
     for number, start in enumerate(range(0, n, chunk)):
+        if number in finished:
+            continue
         index = np.arange(start, min(start + chunk, n))
         if p.base.model == "fe":
             args = (p.base.config, [p.designs.overrides(int(i)) for i in index])
-            out.append(execute.Task(number, index, execute.fe_task, args))
+            yield execute.Task(number, index, execute.fe_task, args)
         else:
             values = {k: p.designs.values[k][index] for k in p.designs.keys}
             args = (p.base.config, values, p.study.reduced_solver)
-            out.append(execute.Task(number, index, execute.reduced_task, args))
-    return out
+            yield execute.Task(number, index, execute.reduced_task, args)
 
 
 #: Designs per batch on a GPU by default. A batched Newton iteration of the paper crawler
@@ -147,10 +196,12 @@ def batch_tasks(p: Plan, size: int, resuming: Path | None = None) -> list[execut
 
 
 def _default_out(name: str) -> Path:
+    from bristlecrawler.io.output_paths import folder_in
+
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
-    path, i = Path("runs") / f"{stamp}-sweep-{name}", 1
+    path, i = folder_in("runs", f"{stamp}-sweep-{name}"), 1
     while path.exists():
-        path = path.with_name(f"{stamp}-sweep-{name}-{i}")
+        path = folder_in("runs", f"{stamp}-sweep-{name}-{i}")
         i += 1
     return path
 
@@ -162,17 +213,19 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
 
     opt = options or SweepOptions()
     wall0 = time.perf_counter()
-    p = plan(study_ref)
+    p = plan(study_ref, opt)
     out = opt.out if opt.out is not None else _default_out(p.study.name)
     resuming = store.check_folder(out, p.resolved, opt.resume)
     batch = _batch_size(p, opt.batch)
     if batch is None:
         finished = store.finished_tasks(out) if resuming else set()
-        todo = [t for t in tasks_of(p) if t.number not in finished]
+        ntasks, left = task_count(p, finished)
+        todo = tasks_of(p, finished)
     else:
         todo = batch_tasks(p, batch, out if resuming else None)
+        ntasks, left = len(todo), sum(t.index.size for t in todo)
     client = cluster = None
-    if todo:
+    if ntasks:
         client, cluster = execute.connect(opt.scheduler, opt.workers, opt.connect_timeout_s)
     meta = {
         "package_version": __version__,
@@ -182,22 +235,21 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
         "scheduler": opt.scheduler or f"LocalCluster({opt.workers or 'one per core'})",
         "dashboard": None if client is None else client.dashboard_link,
     }
+    if opt.note is not None and p.cost.long:  # bad input is one line: said once all is checked
+        opt.note(p.cost.text())
     try:
         store.start_folder(out, p.resolved, meta)
-        if todo:
-            _run(p, out, todo, client, opt.progress)
+        if ntasks:
+            _run(p, out, todo, left, client, opt.progress)
     finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-    return _finish(p, out, meta, opt, len(todo), time.perf_counter() - wall0)
+        execute.disconnect(client, cluster)
+    return _finish(p, out, meta, opt, ntasks, time.perf_counter() - wall0)
 
 
-def _run(p: Plan, out: Path, todo, client, progress) -> None:
+def _run(p: Plan, out: Path, todo, left: int, client, progress) -> None:
     from bristlecrawler.studies.progress import SweepProgress
 
-    done_before = p.designs.n - sum(t.index.size for t in todo)
+    done_before = p.designs.n - left
     bar = SweepProgress(p.designs.n, done_before, 0, enabled=progress)
 
     def on_done(task: execute.Task, result) -> None:

@@ -26,10 +26,20 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictBool,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    field_validator,
+    model_validator,
+)
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.scenario.strict import parse_model
+from bristlecrawler.scenario.strict import SafeName, parse_model
 
 Scalar = bool | int | float | str
 MAX_DESIGNS = 50_000_000
@@ -43,11 +53,12 @@ class AxisRange(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    linspace: tuple[float, float, int] | None = None
-    logspace: tuple[float, float, int] | None = None
-    random: tuple[float, float] | None = None
-    lhs: tuple[float, float] | None = None
-    log: bool = False
+    # Strict, as in a scenario file: "yes" is not true, "3" and true are not numbers.
+    linspace: tuple[StrictFloat, StrictFloat, StrictInt] | None = None
+    logspace: tuple[StrictFloat, StrictFloat, StrictInt] | None = None
+    random: tuple[StrictFloat, StrictFloat] | None = None
+    lhs: tuple[StrictFloat, StrictFloat] | None = None
+    log: StrictBool = False
 
     @model_validator(mode="after")
     def _one(self) -> AxisRange:
@@ -86,14 +97,14 @@ class Study(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    name: str = Field("study", min_length=1, max_length=100, pattern=r"^[A-Za-z0-9_.-]+$")
-    description: str = ""
+    name: SafeName = Field("study", description="name of the study, used in its folder's name")
+    description: StrictStr = ""
     model: Literal["fe", "reduced"]
-    base: str = Field("paper", description="shipped scenario or file (fe); 'paper' or a file")
+    base: StrictStr = Field("paper", description="shipped scenario or file (fe); 'paper' or a file")
     combine: Literal["grid", "zip"] = "grid"
-    samples: int = Field(0, ge=0, le=MAX_DESIGNS, description="points of random/lhs axes")
-    seed: int = Field(0, ge=0, description="seed of the random and lhs axes")
-    chunk: int | None = Field(
+    samples: StrictInt = Field(0, ge=0, le=MAX_DESIGNS, description="points of random/lhs axes")
+    seed: StrictInt = Field(0, ge=0, le=2**63 - 1, description="seed of the random and lhs axes")
+    chunk: StrictInt | None = Field(
         None,
         ge=1,
         le=1_000_000,

@@ -1,5 +1,10 @@
 """Every design is checked against the model's schema before any work starts; the first
-one that fails is named with its values in a one-line :class:`InputError`."""
+one that fails is named with its values in a one-line :class:`InputError`.
+
+An FE design takes about 1.4 ms to check: beyond :data:`FE_FULL_CHECK` designs, the first
+ones, every value of every axis (up to 500 spread over a long axis) and the corners of the
+grid are checked, so that a study of millions starts within seconds; a design left
+unchecked that the schema refuses is recorded as failed, with the schema's message."""
 
 from __future__ import annotations
 
@@ -13,6 +18,7 @@ from bristlecrawler.studies.designs import Base, Designs, with_overrides
 # Up to this many designs each one goes through the full schema; beyond, each axis's
 # values are checked against their field and the cross-field rules run vectorised.
 FULL_CHECK = 20_000
+FE_FULL_CHECK = 2_000
 
 
 def validate_designs(base: Base, designs: Designs) -> None:
@@ -26,13 +32,31 @@ def validate_designs(base: Base, designs: Designs) -> None:
 def _validate_fe(base: Base, designs: Designs) -> None:
     from bristlecrawler.scenario.load import scenario_from_dict
 
-    for i in range(designs.n):
+    for i in _fe_probe(designs):
         data = with_overrides(base.config, designs.overrides(i))
         try:
             scenario_from_dict(data, "scenario")
         except InputError as exc:
             message = str(exc).removeprefix("scenario: ")
             raise InputError(f"{designs.label(i)}: {message}") from None
+
+
+def _fe_probe(designs: Designs) -> list[int]:
+    """The designs checked (see the module): all of them up to FE_FULL_CHECK."""
+    import itertools
+
+    n, shape = designs.n, designs.shape
+    if n <= FE_FULL_CHECK:
+        return list(range(n))
+    picks = set(range(FE_FULL_CHECK // 2))
+    for axis, size in enumerate(shape):
+        for j in np.unique(np.linspace(0, size - 1, min(size, 500)).astype(np.int64)):
+            at = [0] * len(shape)
+            at[axis] = int(j)
+            picks.add(int(np.ravel_multi_index(at, shape)))
+    corners = itertools.product(*[(0, s - 1) for s in shape])
+    picks |= {int(np.ravel_multi_index(c, shape)) for c in itertools.islice(corners, 1024)}
+    return sorted(picks)
 
 
 def _validate_reduced(base: Base, designs: Designs) -> None:
