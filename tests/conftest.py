@@ -65,3 +65,26 @@ def _free_compiled_programs():
 
     jax.clear_caches()
     clear_loaded()
+
+
+#: A test that takes longer than this (s, setup and teardown included) belongs in the slow
+#: lane: mark it ``@pytest.mark.slow``. The suite lists the unmarked ones at its end; a
+#: report, never a failure (a shared CI machine must not fail a build on a timing).
+SLOW_TEST_S = 10.0
+_unmarked_slow: dict[str, float] = {}
+
+
+def pytest_runtest_logreport(report):
+    if "slow" in report.keywords:
+        return
+    _unmarked_slow[report.nodeid] = _unmarked_slow.get(report.nodeid, 0.0) + report.duration
+
+
+def pytest_terminal_summary(terminalreporter):
+    slow = sorted(
+        ((t, n) for n, t in _unmarked_slow.items() if t > SLOW_TEST_S), reverse=True
+    )
+    if slow:
+        terminalreporter.section("unmarked tests over 10 s (mark them slow)")
+        for t, n in slow:
+            terminalreporter.write_line(f"{t:7.1f} s  {n}")

@@ -51,6 +51,10 @@ _WARNED: set[str] = set()
 _LOAD_LOCK = threading.Lock()
 
 
+class CacheWarning(UserWarning):
+    """The compiled-program cache could not store a program (the run goes on)."""
+
+
 class Undigestible(TypeError):
     """An object whose content cannot be hashed stably across processes."""
 
@@ -315,7 +319,7 @@ def _write(path: Path, exe, name: str) -> None:
 def _warn_once(kind: str, message: str) -> None:
     if kind not in _WARNED:
         _WARNED.add(kind)
-        warnings.warn(message, RuntimeWarning, stacklevel=3)
+        warnings.warn(message, CacheWarning, stacklevel=2)
 
 
 def stored(fn, name: str, *static: Any):
