@@ -53,6 +53,8 @@ class TextureLaw:
         origin_mm: substrate coordinate where cell 0 starts, mm.
         tip_offset_mm: the tip's position relative to its attachment at rest, mm (where a
             tip starts on the substrate).
+        walls_mm: positions within a pitch (mm from ``origin_mm``, on cell edges) of walls
+            of no width that no tip crosses backwards (a groove's wall).
     """
 
     pitch_mm: float
@@ -61,6 +63,7 @@ class TextureLaw:
     k_N_per_mm: float
     origin_mm: float = 0.0
     tip_offset_mm: float = 0.0
+    walls_mm: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "pitch_mm", positive("texture pitch (mm)", self.pitch_mm))
@@ -73,6 +76,14 @@ class TextureLaw:
             if not np.isfinite(v):
                 raise InputError(f"texture {name} must be finite, got {v}")
             object.__setattr__(self, name, v)
+        walls = np.asarray(self.walls_mm, dtype=float).ravel() % self.pitch_mm
+        u = walls / self.cell_mm
+        if np.any(np.abs(u - np.round(u)) > 1e-9):
+            raise InputError(f"walls must lie on cell edges ({self.cell_mm:g} mm apart)")
+        edges = np.round(u).astype(int) % self.n_cells
+        object.__setattr__(
+            self, "walls_mm", tuple(float(v) for v in np.unique(edges) * self.cell_mm)
+        )
 
     @classmethod
     def constant(cls, fp: float, fn: float, k: float, pitch: float = 1.0) -> TextureLaw:
@@ -81,13 +92,12 @@ class TextureLaw:
 
     @classmethod
     def sawtooth(
-        cls, pitch: float, fp: float, k: float, cells: int = 2, fn: float | None = None
+        cls, pitch: float, fp: float, k: float, cells: int = 1, fn: float | None = None
     ) -> TextureLaw:
-        """A ratchet: F_p everywhere, F_n (default 2 F_p) and a wall (F_n = inf) in the last
-        cell of each pitch: a tip slides back at most to the wall behind it."""
-        fn = np.full(cells, 2.0 * fp if fn is None else fn)
-        fn[-1] = np.inf
-        return cls(pitch_mm=pitch, fp_N=np.full(cells, fp), fn_N=fn, k_N_per_mm=k)
+        """A ratchet: F_p and F_n (default F_p / 2) everywhere, and a wall at the start of
+        each pitch: a tip pulled back slides to the wall behind it."""
+        fn = np.full(cells, 0.5 * fp if fn is None else fn)
+        return cls(pitch, np.full(cells, fp), fn, k, walls_mm=(0.0,))
 
     @property
     def n_cells(self) -> int:
@@ -101,14 +111,19 @@ class TextureLaw:
     @property
     def is_constant(self) -> bool:
         """True when the law is the same at every position (the paper's law)."""
-        return bool(np.all(self.fp_N == self.fp_N[0]) and np.all(self.fn_N == self.fn_N[0]))
+        same = np.all(self.fp_N == self.fp_N[0]) and np.all(self.fn_N == self.fn_N[0])
+        return bool(same and not self.walls_mm)
 
     @property
     def lock_positions_mm(self) -> np.ndarray:
         """Positions within a pitch (mm from ``origin_mm``) where a tip sliding backwards
-        stops against a wall: the forward edges of the cells with F_n = inf."""
-        j = np.flatnonzero(~np.isfinite(self.fn_N))
-        return (j + 1) * self.cell_mm
+        stops against a wall whatever the other bristles pull, as long as they slide
+        forwards on the same law: the forward edges of the cells whose F_n exceeds every
+        F_p (or is infinite), where such a cell follows one that does not."""
+        wall = self.fn_N > self.fp_N.max()
+        start = wall & ~np.roll(wall, -1)
+        edges = ((np.flatnonzero(start) + 1) % self.n_cells) * self.cell_mm
+        return np.unique(np.concatenate([edges, self.walls_mm]))
 
     @property
     def mean_fp_N(self) -> float:
@@ -131,7 +146,15 @@ class TextureLaw:
 
     def backward_resistance(self, x) -> np.ndarray:
         """F_n at tip positions ``x`` (mm), N (inf at a wall)."""
-        return self.fn_N[self.cell_behind(x)]
+        fn = self.fn_N[self.cell_behind(x)]
+        if not self.walls_mm:
+            return fn
+        u = (np.asarray(x, dtype=float) - self.origin_mm) / self.cell_mm
+        near = np.round(u)
+        edge = near.astype(int) % self.n_cells
+        walls = np.zeros(self.n_cells, dtype=bool)
+        walls[np.round(np.asarray(self.walls_mm) / self.cell_mm).astype(int)] = True
+        return np.where((np.abs(u - near) < 1e-9) & walls[edge], np.inf, fn)
 
     def next_edge(self, x, direction: np.ndarray) -> np.ndarray:
         """The nearest cell edge strictly ahead of ``x`` (mm) in ``direction`` (+1/-1)
@@ -156,6 +179,7 @@ class TextureLaw:
             "k_N_per_mm": self.k_N_per_mm,
             "fp_N": self.fp_N.tolist(),
             "fn_N": [v if np.isfinite(v) else "inf" for v in self.fn_N.tolist()],
+            "walls_mm": list(self.walls_mm),
             "lock_positions_mm": self.lock_positions_mm.tolist(),
         }
 
@@ -171,6 +195,7 @@ class TextureLaw:
                 k_N_per_mm=d["k_N_per_mm"],
                 origin_mm=d.get("origin_mm", 0.0),
                 tip_offset_mm=d.get("tip_offset_mm", 0.0),
+                walls_mm=tuple(d.get("walls_mm", ())),
             )
         except (KeyError, TypeError, ValueError) as err:
             raise InputError(f"not a texture law: {err}") from None

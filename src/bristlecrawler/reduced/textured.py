@@ -209,9 +209,7 @@ class _TextureStepper(_Stepper):
         )
 
 
-def solve_textured(
-    crawler: TexturedCrawler, t, shortening, cycle_bounds=None
-) -> ReducedResult:
+def solve_textured(crawler: TexturedCrawler, t, shortening, cycle_bounds=None) -> ReducedResult:
     """The textured crawler's quasi-static evolution for sampled segment shortenings
     (see :func:`bristlecrawler.reduced.solve`; tips start at their attachments plus the
     laws' tip offsets, springs unloaded)."""

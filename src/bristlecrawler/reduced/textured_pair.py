@@ -30,6 +30,7 @@ class PairBatch:
 
     fp: np.ndarray  # (B, 2, n)
     fn: np.ndarray  # (B, 2, n)
+    walls: np.ndarray  # (B, 2, n): a wall at the start of the cell
     pitch: np.ndarray  # (B,)
     k: np.ndarray  # (B, 2)
     origin: np.ndarray  # (B,)
@@ -57,6 +58,7 @@ class PairBatch:
         return cls(
             fp=np.array([[p.fp_N for p in pair] for pair in pairs]),
             fn=np.array([[p.fn_N for p in pair] for pair in pairs]),
+            walls=np.array([[_wall_edges(p) for p in pair] for pair in pairs]),
             pitch=np.array([pair[0].pitch_mm for pair in pairs]),
             k=np.array([[p.k_N_per_mm for p in pair] for pair in pairs]),
             origin=np.array([pair[0].origin_mm for pair in pairs]),
@@ -65,6 +67,12 @@ class PairBatch:
             s_max=s_max,
             start=np.broadcast_to(np.asarray(start, float), (B,)).copy(),
         )
+
+
+def _wall_edges(law: TextureLaw) -> np.ndarray:
+    out = np.zeros(law.n_cells, dtype=bool)
+    out[np.round(np.asarray(law.walls_mm) / law.cell_mm).astype(int) % law.n_cells] = True
+    return out
 
 
 def _cells(b: PairBatch, x: np.ndarray):
@@ -81,6 +89,12 @@ def _resistances(b: PairBatch, x: np.ndarray):
     ahead, behind, up, down = _cells(b, x)
     fp = np.take_along_axis(b.fp, ahead[..., None], axis=2)[..., 0]
     fn = np.take_along_axis(b.fn, behind[..., None], axis=2)[..., 0]
+    if b.walls.any():  # a tip on a wall's edge goes no further back
+        n = b.fp.shape[-1]
+        u = (x - b.origin[:, None]) / (b.pitch / n)[:, None]
+        near = np.round(u)
+        on = np.take_along_axis(b.walls, (near.astype(int) % n)[..., None], axis=2)[..., 0]
+        fn = np.where(on & (np.abs(u - near) < 1e-9), np.inf, fn)
     return fp, fn, up, down
 
 
