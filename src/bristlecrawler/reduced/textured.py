@@ -95,10 +95,17 @@ class _TextureStepper(_Stepper):
         self.tol = 1e-12 * scale
         self.xtol = 1e-10 * scale
         self.constant = all(law.is_constant for law in self.laws)
+        self.shared = all(law is self.laws[0] for law in self.laws)
 
     def set_bounds(self, x: np.ndarray) -> None:
-        self.fp = np.array([law.forward_resistance(xi) for law, xi in zip(self.laws, x)])
-        self.fn = np.array([law.backward_resistance(xi) for law, xi in zip(self.laws, x)])
+        if self.shared:
+            self.fp = self.laws[0].forward_resistance(x)
+            self.fn = self.laws[0].backward_resistance(x)
+        else:
+            pairs = zip(self.laws, x, strict=True)
+            self.fp, self.fn = np.array(
+                [(law.forward_resistance(xi), law.backward_resistance(xi)) for law, xi in pairs]
+            ).T
         self.upper = self.fp / self.k
         self.lower = -self.fn / self.k
 
