@@ -75,110 +75,105 @@ def _wall_edges(law: TextureLaw) -> np.ndarray:
     return out
 
 
-def _cells(b: PairBatch, x: np.ndarray):
-    """Cell ahead and behind of tips at ``x`` (B, 2) and the edges ahead and behind, mm."""
-    n = b.fp.shape[-1]
-    c = (b.pitch / n)[:, None]
-    u = (x - b.origin[:, None]) / c
-    fl, ce = np.floor(u + 1e-9), np.ceil(u - 1e-9)
-    ahead, behind = fl.astype(int) % n, (ce.astype(int) - 1) % n
-    return ahead, behind, b.origin[:, None] + c * (fl + 1.0), b.origin[:, None] + c * (ce - 1.0)
+class _Tables:
+    """The batch's laws as flat tables, indexed by (design, tip, cell)."""
 
+    def __init__(self, b: PairBatch):
+        self.n = b.fp.shape[-1]
+        self.fp, self.fn = b.fp.ravel(), b.fn.ravel()
+        self.walls = b.walls.ravel() if b.walls.any() else None
+        self.cell = b.pitch / self.n
+        self.origin = b.origin
 
-def _resistances(b: PairBatch, x: np.ndarray):
-    ahead, behind, up, down = _cells(b, x)
-    fp = np.take_along_axis(b.fp, ahead[..., None], axis=2)[..., 0]
-    fn = np.take_along_axis(b.fn, behind[..., None], axis=2)[..., 0]
-    if b.walls.any():  # a tip on a wall's edge goes no further back
-        n = b.fp.shape[-1]
-        u = (x - b.origin[:, None]) / (b.pitch / n)[:, None]
-        near = np.round(u)
-        on = np.take_along_axis(b.walls, (near.astype(int) % n)[..., None], axis=2)[..., 0]
-        fn = np.where(on & (np.abs(u - near) < 1e-9), np.inf, fn)
-    return fp, fn, up, down
+    def at(self, rows: np.ndarray, x: np.ndarray):
+        """Resistances ahead (F_p) and behind (F_n) of tips at ``x`` (rows of the batch,
+        shape (R, 2)) and the cell edges ahead and behind, mm."""
+        n, c, o = self.n, self.cell[rows, None], self.origin[rows, None]
+        u = (x - o) / c
+        fl, ce = np.floor(u + 1e-9), np.ceil(u - 1e-9)
+        base = (rows[:, None] * 2 + np.arange(2)) * n
+        fp = self.fp[base + fl.astype(int) % n]
+        fn = self.fn[base + (ce.astype(int) - 1) % n]
+        if self.walls is not None:  # a tip on a wall's edge goes no further back
+            near = np.round(u)
+            on = self.walls[base + near.astype(int) % n] & (np.abs(u - near) < 1e-9)
+            fn = np.where(on, np.inf, fn)
+        return fp, fn, o + c * (fl + 1.0), o + c * (ce - 1.0)
 
 
 def pair_cycles(b: PairBatch, cycles: int = 2, max_events: int = 200_000):
     """Advance of the front attachment (mm) and actuator work (mJ) of each cycle, each of
     shape (B, cycles), for the breathing stroke 0 -> s_max -> 0 repeated ``cycles`` times."""
     B = b.pitch.size
-    K = b.k[:, 0] * b.k[:, 1] / b.k.sum(axis=1)
-    L = b.length
-    x = np.stack([b.start, b.start + L], axis=1) + b.offset
-    s, f, W = np.zeros(B), np.zeros(B), np.zeros(B)
-    half = np.zeros(B, dtype=int)
-    adv = np.zeros((B, cycles))
-    work = np.zeros((B, cycles))
-    front0 = _front(b, x, K, L)
-    W0 = np.zeros(B)
-    tol = 1e-12 * (1.0 + b.length)
-    ftol = 1e-12 * (1.0 + np.abs(b.fp).max())
+    tables = _Tables(b)
+    K_all = b.k[:, 0] * b.k[:, 1] / b.k.sum(axis=1)
+    x_all = np.stack([b.start, b.start + b.length], axis=1) + b.offset
+    adv, work = np.zeros((B, cycles)), np.zeros((B, cycles))
+    front0 = _front(b, np.arange(B), x_all)
     rows = np.arange(B)
+    x, K, s_max = x_all.copy(), K_all, b.s_max
+    s, f, W, W0 = np.zeros(B), np.zeros(B), np.zeros(B), np.zeros(B)
+    half = np.zeros(B, dtype=int)
+    ftol = 1e-12 * (1.0 + np.abs(b.fp).max())
     for _ in range(max_events):
-        live = half < 2 * cycles
-        if not live.any():
+        if rows.size == 0:
             return adv, work
-        fp, fn, up, down = _resistances(b, x)
+        r = np.arange(rows.size)
+        fp, fn, up, down = tables.at(rows, x)
         hi = np.minimum(fp[:, 0], fn[:, 1])  # rear forwards / front backwards
         lo = np.maximum(-fn[:, 0], -fp[:, 1])  # rear backwards / front forwards
-        rear_hi = fp[:, 0] <= fn[:, 1]
-        rear_lo = fn[:, 0] <= fp[:, 1]
+        rear_hi, rear_lo = fp[:, 0] <= fn[:, 1], fn[:, 0] <= fp[:, 1]
         rising = half % 2 == 0
-        snap_hi, snap_lo = live & (f > hi + ftol), live & (f < lo - ftol)
-        # A snap: the weaker tip slides on at frozen s until f is down to its cell's
-        # resistance or it reaches the next edge.
-        tip = np.where(snap_hi, np.where(rear_hi, 0, 1), np.where(rear_lo, 0, 1))
-        fwd = np.where(snap_hi, rear_hi, ~rear_lo)  # the moving tip goes forwards
-        edge = np.where(fwd, up[rows, tip], down[rows, tip])
-        to_edge = np.abs(edge - x[rows, tip])
-        thr = np.where(snap_hi, hi, lo)
-        need = np.abs(f - thr) / K
+        snap_hi, snap_lo = f > hi + ftol, f < lo - ftol
         snap = snap_hi | snap_lo
-        d = np.where(need < to_edge, need, to_edge)
-        at_edge = need >= to_edge
-        f = np.where(snap, np.where(snap_hi, f - K * d, f + K * d), f)
-        moved = np.where(at_edge, edge, x[rows, tip] + np.where(fwd, d, -d))
-        x[rows, tip] = np.where(snap, moved, x[rows, tip])
-        f = np.where(snap & ~at_edge, thr, f)
-        # Otherwise the stroke moves on: elastic until a tip yields, or a tip slides.
-        go = live & ~snap
-        target = np.where(rising, b.s_max, 0.0)
-        left = np.abs(target - s)
-        at_yield = np.where(rising, f >= hi - ftol, f <= lo + ftol)
-        elastic = go & ~at_yield
-        de = np.minimum(np.where(rising, hi - f, f - lo) / K, left)
         sgn = np.where(rising, 1.0, -1.0)
+        at_yield = ~snap & np.where(rising, f >= hi - ftol, f <= lo + ftol)
+        elastic = ~snap & ~at_yield
+        # The tip that moves (in a snap or a slide): the weaker at the bound f is at.
+        upper = np.where(snap, snap_hi, rising)
+        tip = np.where(upper, ~rear_hi, ~rear_lo).astype(int)
+        fwd = np.where(upper, rear_hi, ~rear_lo)
+        xt = x[r, tip]
+        edge = np.where(fwd, up[r, tip], down[r, tip])
+        to_edge = np.abs(edge - xt)
+        left = np.where(rising, s_max - s, s)
+        bound = np.where(upper, hi, lo)
+        # A snap moves the tip at frozen s until f is down to its cell's resistance; a
+        # slide at constant f until the edge or the stroke's end; elastic loading moves
+        # no tip until f reaches a bound or the stroke its end.
+        need = np.where(snap, np.abs(f - bound) / K, left)
+        d = np.minimum(need, to_edge)
+        de = np.minimum(np.abs(bound - f) / K, left)
+        moves = ~elastic
+        x[r, tip] = np.where(
+            moves, np.where(need >= to_edge, edge, xt + np.where(fwd, d, -d)), xt
+        )
         W = W + np.where(elastic, sgn * (f + sgn * 0.5 * K * de) * de, 0.0)
-        f_el = np.where(de >= left, f + sgn * K * de, np.where(rising, hi, lo))
-        f = np.where(elastic, f_el, f)
-        slide = go & at_yield
-        tip = np.where(rising, np.where(rear_hi, 0, 1), np.where(rear_lo, 0, 1))
-        fwd = np.where(rising, rear_hi, ~rear_lo)
-        edge = np.where(fwd, up[rows, tip], down[rows, tip])
-        to_edge = np.abs(edge - x[rows, tip])
-        ds = np.minimum(to_edge, left)
-        W = W + np.where(slide, sgn * f * ds, 0.0)
-        moved = np.where(to_edge <= left, edge, x[rows, tip] + np.where(fwd, ds, -ds))
-        x[rows, tip] = np.where(slide, moved, x[rows, tip])
-        step = np.where(elastic, de, np.where(slide, ds, 0.0))
-        s = s + sgn * step
-        done = go & (np.abs(target - s) <= tol) & (np.where(elastic, de >= left, ds >= left))
-        s = np.where(done, target, s)
+        W = W + np.where(at_yield, sgn * f * d, 0.0)
+        f_snap = np.where(need < to_edge, bound, f - np.where(snap_hi, K, -K) * d)
+        f_el = np.where(de >= left, f + sgn * K * de, bound)
+        f = np.where(snap, f_snap, np.where(elastic, f_el, f))
+        step = np.where(elastic, de, np.where(at_yield, d, 0.0))
+        done = ~snap & (step >= left)
+        s = np.where(done, np.where(rising, s_max, 0.0), s + sgn * step)
         ended = done & ~rising
         if ended.any():
-            c = half[ended] // 2
-            fr = _front(b, x, K, L)
-            adv[ended, c] = fr[ended] - front0[ended]
-            work[ended, c] = W[ended] - W0[ended]
-            front0 = np.where(ended, fr, front0)
-            W0 = np.where(ended, W, W0)
+            g, c = rows[ended], half[ended] // 2
+            fr = _front(b, g, x[ended])
+            adv[g, c] = fr - front0[g]
+            work[g, c] = W[ended] - W0[g]
+            front0[g], W0[g] = fr, W[ended]
         half = half + done
+        keep = half < 2 * cycles
+        if not keep.all():
+            rows, x, K, s_max = rows[keep], x[keep], K[keep], s_max[keep]
+            s, f, W, half = s[keep], f[keep], W[keep], half[keep]
     raise SolverError(f"two-bristle events did not finish within {max_events} events")
 
 
-def _front(b: PairBatch, x: np.ndarray, K: np.ndarray, L: np.ndarray) -> np.ndarray:
+def _front(b: PairBatch, rows: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Front attachment at s = 0 from the tips' positions (balance of the two springs)."""
-    y = x - b.offset
-    k0, k1 = b.k[:, 0], b.k[:, 1]
+    y = x - b.offset[rows]
+    k0, k1, L = b.k[rows, 0], b.k[rows, 1], b.length[rows]
     X0 = (k0 * y[:, 0] + k1 * (y[:, 1] - L)) / (k0 + k1)
     return X0 + L
