@@ -145,9 +145,7 @@ def pair_cycles(b: PairBatch, cycles: int = 2, max_events: int = 200_000):
         d = np.minimum(need, to_edge)
         de = np.minimum(np.abs(bound - f) / K, left)
         moves = ~elastic
-        x[r, tip] = np.where(
-            moves, np.where(need >= to_edge, edge, xt + np.where(fwd, d, -d)), xt
-        )
+        x[r, tip] = np.where(moves, np.where(need >= to_edge, edge, xt + np.where(fwd, d, -d)), xt)
         W = W + np.where(elastic, sgn * (f + sgn * 0.5 * K * de) * de, 0.0)
         W = W + np.where(at_yield, sgn * f * d, 0.0)
         f_snap = np.where(need < to_edge, bound, f - np.where(snap_hi, K, -K) * d)
