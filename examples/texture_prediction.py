@@ -67,6 +67,15 @@ def fe_run(sc) -> tuple[tuple[float, ...], float]:
     return tuple(float(a) for a in h.advance_per_cycle()), float(h.connector_work[-1])
 
 
+def is_cached(overrides) -> bool:
+    """Whether the design's drag test is in the drag cache."""
+    from bristlecrawler.jobs.predict import cache_folder, cache_key, prediction_drag_test
+
+    sc = scenario(overrides)
+    key = cache_key(sc, prediction_drag_test(to_spec(sc)))
+    return (cache_folder() / f"{key}.json").is_file()
+
+
 def evaluate(overrides, fe=None) -> dict:
     """One design's row: FE (given or run), texture and paper models."""
     from bristlecrawler.jobs.predict import cached_drag, predict_models, prediction_drag_test
@@ -91,10 +100,16 @@ def main(argv=None) -> list[dict]:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--grid", action="store_true", help="the 24-design grid (needs --fe)")
     p.add_argument("--fe", action="store_true", help="run the FE crawler for every design")
+    p.add_argument(
+        "--cached-only", action="store_true", help="skip designs whose drag test is not cached"
+    )
     args = p.parse_args(argv)
     designs = grid() if args.grid else list(FE_MEASURED)
     rows = []
     for d in designs:
+        if args.cached_only and not is_cached(d):
+            print(f"{' '.join(d) or 'paper'}: no cached drag test, skipped")
+            continue
         try:
             rows.append(evaluate(d, None if args.fe else FE_MEASURED[d]))
         except Exception as exc:  # a design that fails is reported, the others go on
@@ -110,7 +125,9 @@ def main(argv=None) -> list[dict]:
         err = np.abs([r[f"{name}_work_error"] for r in rows])
         print(
             f"{name}: {hits}/{len(rows)} within half a pitch; work error median "
-            f"{np.median(err):.1%}, max {err.max():.1%}" if rows else f"{name}: no designs"
+            f"{np.median(err):.1%}, max {err.max():.1%}"
+            if rows
+            else f"{name}: no designs"
         )
     return rows
 

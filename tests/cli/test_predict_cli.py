@@ -55,7 +55,7 @@ def test_a_constant_law_predicts_what_the_papers_model_does(tmp_path, monkeypatc
 def test_a_corrupt_cache_entry_is_run_again_and_replaced(tmp_path, monkeypatch, run_cli):
     path = _entry(tmp_path, monkeypatch)
     path.parent.mkdir(parents=True)
-    path.write_text('{"version": 1, "summ')
+    path.write_text('{"version": 2, "summ')
     calls = []
     law = TextureLaw.sawtooth(2.0, FP, K, cells=4)
 

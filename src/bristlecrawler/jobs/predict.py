@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 #: Bump when the drag test or its analysis changes what a cached summary holds.
-CACHE_VERSION = 1
+CACHE_VERSION = 2
 #: Scenario sections a drag test reads (the actuation only for its settle time).
 _DRAG_SECTIONS = ("body", "bristle", "substrate", "contact", "damping", "solver", "gravity")
 
