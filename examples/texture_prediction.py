@@ -116,9 +116,10 @@ def main(argv=None) -> list[dict]:
             print(f"{' '.join(d)}: {type(exc).__name__}: {exc}")
     print(f"{'design':40s} {'FE':>6s} {'texture':>8s} {'paper':>6s}  work err (tex, paper)")
     for r in rows:
+        errors = f"{r['texture_work_error']:+.1%} {r['paper_work_error']:+.1%}"
         print(
             f"{r['design']:40s} {r['fe_steady_mm']:6.2f} {r['texture_steady_mm']:8.2f} "
-            f"{r['paper_steady_mm']:6.2f}  {r['texture_work_error']:+.1%} {r['paper_work_error']:+.1%}"
+            f"{r['paper_steady_mm']:6.2f}  {errors}"
         )
     for name in ("texture", "paper"):
         hits = sum(r[f"{name}_hit"] for r in rows)
