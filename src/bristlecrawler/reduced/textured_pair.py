@@ -101,6 +101,59 @@ class _Tables:
         return fp, fn, o + c * (fl + 1.0), o + c * (ce - 1.0)
 
 
+def _step(tables, rows, x, f, s, W, half, K, s_max, ftol):
+    """One event of every live design: a snap, or elastic loading and/or a slide.
+    Returns the new x, f, s, W and which designs finished their half stroke."""
+    r = np.arange(rows.size)
+    fp, fn, up, down = tables.at(rows, x)
+    hi = np.minimum(fp[:, 0], fn[:, 1])  # rear forwards / front backwards
+    lo = np.maximum(-fn[:, 0], -fp[:, 1])  # rear backwards / front forwards
+    rear_hi, rear_lo = fp[:, 0] <= fn[:, 1], fn[:, 0] <= fp[:, 1]
+    rising = half % 2 == 0
+    sgn = np.where(rising, 1.0, -1.0)
+    left = np.where(rising, s_max - s, s)  # stroke left in this half cycle, mm
+    # 1. A snap: the weaker tip at the bound f exceeds slides on at frozen s until f is
+    # down to its cell's resistance or the tip reaches the next edge.
+    snap_hi, snap_lo = f > hi + ftol, f < lo - ftol
+    snap = snap_hi | snap_lo
+    tip = np.where(snap_hi, ~rear_hi, ~rear_lo).astype(int)
+    fwd = np.where(snap_hi, rear_hi, ~rear_lo)
+    xt = x[r, tip]
+    edge = np.where(fwd, up[r, tip], down[r, tip])
+    to_edge = np.abs(edge - xt)
+    bound = np.where(snap_hi, hi, lo)
+    need = np.abs(f - bound) / K
+    d = np.minimum(need, to_edge)
+    inside = need < to_edge
+    x[r, tip] = np.where(snap, np.where(inside, xt + np.where(fwd, d, -d), edge), xt)
+    f = np.where(snap, np.where(inside, bound, f - np.where(snap_hi, K, -K) * d), f)
+    # Ended inside its cell at the bound the stroke pushes on: it slides on below.
+    settled = snap & inside & (snap_hi == rising)
+    # 2. Elastic loading: f moves at K per mm of stroke until a bound or the stroke end.
+    bound = np.where(rising, hi, lo)
+    elastic = ~snap & np.where(rising, f < hi - ftol, f > lo + ftol)
+    de = np.minimum(np.abs(bound - f) / K, left)
+    W = W + np.where(elastic, sgn * (f + sgn * 0.5 * K * de) * de, 0.0)
+    reached = elastic & (de < left)
+    f = np.where(elastic, np.where(reached, bound, f + sgn * K * de), f)
+    left = np.where(elastic, left - de, left)
+    # 3. A slide at constant f of the weaker tip at that bound, to its next cell edge
+    # or the stroke's end (no tip has changed cell since the resistances were read).
+    slide = (~snap & ~elastic) | reached | settled
+    tip = np.where(rising, ~rear_hi, ~rear_lo).astype(int)
+    fwd = np.where(rising, rear_hi, ~rear_lo)
+    xt = x[r, tip]
+    edge = np.where(fwd, up[r, tip], down[r, tip])
+    to_edge = np.abs(edge - xt)
+    d = np.minimum(to_edge, left)
+    x[r, tip] = np.where(slide, np.where(to_edge <= left, edge, xt + np.where(fwd, d, -d)), xt)
+    W = W + np.where(slide, sgn * f * d, 0.0)
+    left = np.where(slide, left - d, left)
+    done = (~snap | settled) & (left <= 0.0)
+    s = np.where(rising, s_max - left, left)
+    return x, f, s, W, done
+
+
 def pair_cycles(b: PairBatch, cycles: int = 2, max_events: int = 200_000):
     """Advance of the front attachment (mm) and actuator work (mJ) of each cycle, each of
     shape (B, cycles), for the breathing stroke 0 -> s_max -> 0 repeated ``cycles`` times."""
@@ -118,53 +171,8 @@ def pair_cycles(b: PairBatch, cycles: int = 2, max_events: int = 200_000):
     for _ in range(max_events):
         if rows.size == 0:
             return adv, work
-        r = np.arange(rows.size)
-        fp, fn, up, down = tables.at(rows, x)
-        hi = np.minimum(fp[:, 0], fn[:, 1])  # rear forwards / front backwards
-        lo = np.maximum(-fn[:, 0], -fp[:, 1])  # rear backwards / front forwards
-        rear_hi, rear_lo = fp[:, 0] <= fn[:, 1], fn[:, 0] <= fp[:, 1]
         rising = half % 2 == 0
-        sgn = np.where(rising, 1.0, -1.0)
-        left = np.where(rising, s_max - s, s)  # stroke left in this half cycle, mm
-        # 1. A snap: the weaker tip at the bound f exceeds slides on at frozen s until f is
-        # down to its cell's resistance or the tip reaches the next edge.
-        snap_hi, snap_lo = f > hi + ftol, f < lo - ftol
-        snap = snap_hi | snap_lo
-        tip = np.where(snap_hi, ~rear_hi, ~rear_lo).astype(int)
-        fwd = np.where(snap_hi, rear_hi, ~rear_lo)
-        xt = x[r, tip]
-        edge = np.where(fwd, up[r, tip], down[r, tip])
-        to_edge = np.abs(edge - xt)
-        bound = np.where(snap_hi, hi, lo)
-        need = np.abs(f - bound) / K
-        d = np.minimum(need, to_edge)
-        inside = need < to_edge
-        x[r, tip] = np.where(snap, np.where(inside, xt + np.where(fwd, d, -d), edge), xt)
-        f = np.where(snap, np.where(inside, bound, f - np.where(snap_hi, K, -K) * d), f)
-        # Ended inside its cell at the bound the stroke pushes on: it slides on below.
-        settled = snap & inside & (snap_hi == rising)
-        # 2. Elastic loading: f moves at K per mm of stroke until a bound or the stroke end.
-        bound = np.where(rising, hi, lo)
-        elastic = ~snap & np.where(rising, f < hi - ftol, f > lo + ftol)
-        de = np.minimum(np.abs(bound - f) / K, left)
-        W = W + np.where(elastic, sgn * (f + sgn * 0.5 * K * de) * de, 0.0)
-        reached = elastic & (de < left)
-        f = np.where(elastic, np.where(reached, bound, f + sgn * K * de), f)
-        left = np.where(elastic, left - de, left)
-        # 3. A slide at constant f of the weaker tip at that bound, to its next cell edge
-        # or the stroke's end (no tip has changed cell since the resistances were read).
-        slide = (~snap & ~elastic) | reached | settled
-        tip = np.where(rising, ~rear_hi, ~rear_lo).astype(int)
-        fwd = np.where(rising, rear_hi, ~rear_lo)
-        xt = x[r, tip]
-        edge = np.where(fwd, up[r, tip], down[r, tip])
-        to_edge = np.abs(edge - xt)
-        d = np.minimum(to_edge, left)
-        x[r, tip] = np.where(slide, np.where(to_edge <= left, edge, xt + np.where(fwd, d, -d)), xt)
-        W = W + np.where(slide, sgn * f * d, 0.0)
-        left = np.where(slide, left - d, left)
-        done = (~snap | settled) & (left <= 0.0)
-        s = np.where(rising, s_max - left, left)
+        x, f, s, W, done = _step(tables, rows, x, f, s, W, half, K, s_max, ftol)
         ended = done & ~rising
         if ended.any():
             g, c = rows[ended], half[ended] // 2
