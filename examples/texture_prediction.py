@@ -96,6 +96,24 @@ def evaluate(overrides, fe=None) -> dict:
     return row
 
 
+def markdown(rows) -> str:
+    """The rows as the findings' table."""
+    head = (
+        "| design | pitch (mm) | FE steady cycle (mm) | texture model (mm) | paper's model "
+        "(mm) | FE work (mJ) | texture work | paper work |\n|---|---|---|---|---|---|---|---|"
+    )
+    lines = [head]
+    for r in rows:
+        lines.append(
+            f"| {r['design']} | {r['pitch_mm']:g} | {r['fe_steady_mm']:.2f} | "
+            f"{r['texture_steady_mm']:.2f}{'' if r['texture_hit'] else ' (miss)'} | "
+            f"{r['paper_steady_mm']:.2f}{'' if r['paper_hit'] else ' (miss)'} | "
+            f"{r['fe_work_mJ']:.2f} | {r['texture_work_error']:+.1%} | "
+            f"{r['paper_work_error']:+.1%} |"
+        )
+    return "\n".join(lines)
+
+
 def main(argv=None) -> list[dict]:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--grid", action="store_true", help="the 24-design grid (needs --fe)")
@@ -103,6 +121,7 @@ def main(argv=None) -> list[dict]:
     p.add_argument(
         "--cached-only", action="store_true", help="skip designs whose drag test is not cached"
     )
+    p.add_argument("--markdown", action="store_true", help="print the table as Markdown")
     args = p.parse_args(argv)
     designs = grid() if args.grid else list(FE_MEASURED)
     rows = []
@@ -121,6 +140,8 @@ def main(argv=None) -> list[dict]:
             f"{r['design']:40s} {r['fe_steady_mm']:6.2f} {r['texture_steady_mm']:8.2f} "
             f"{r['paper_steady_mm']:6.2f}  {errors}"
         )
+    if args.markdown:
+        print(markdown(rows))
     for name in ("texture", "paper"):
         hits = sum(r[f"{name}_hit"] for r in rows)
         err = np.abs([r[f"{name}_work_error"] for r in rows])
