@@ -93,7 +93,6 @@ class _TextureStepper(_Stepper):
         self.laws = crawler.laws
         self.k = crawler.k
         self.tol = 1e-12 * scale
-        self.xtol = 1e-10 * scale
         self.constant = all(law.is_constant for law in self.laws)
         self.shared = all(law is self.laws[0] for law in self.laws)
 
@@ -117,13 +116,15 @@ class _TextureStepper(_Stepper):
         out = np.full(x.size, np.inf)
         for i in np.flatnonzero(np.abs(xdot) > self.tol):
             edge = float(self.laws[i].next_edge(x[i], d[i]))
-            out[i] = max(edge - x[i], 0.0) / xdot[i] if d[i] > 0 else (edge - x[i]) / xdot[i]
+            out[i] = max((edge - x[i]) / xdot[i], 0.0)
         return out
 
     def edge_of(self, i: int, x: float, direction: float) -> float:
+        """The edge tip ``i`` at ``x`` reaches next moving in ``direction``, mm."""
         return float(self.laws[i].next_edge(x, direction))
 
     def slide_loss(self, xdot: np.ndarray) -> float:
+        """Friction power of the sliding tips at their cells' resistances, mJ per unit."""
         fwd = np.where(xdot > 0, self.fp * xdot, 0.0)
         fn = np.where(np.isfinite(self.fn), self.fn, 0.0)  # no tip slides into a wall
         bwd = np.where(xdot < 0, -fn * xdot, 0.0)
