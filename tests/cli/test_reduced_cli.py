@@ -55,6 +55,33 @@ def test_reduced_with_history_file(tmp_path, run_cli):
     assert s["energy_balance_rel_error"] < 1e-9
 
 
+def test_reduced_on_a_texture_law(tmp_path, run_cli):
+    """--texture: the crawler on a drag test's texture law; a constant law is the paper's
+    model (same advance and work as --fp/--fn/--k)."""
+    from bristlecrawler.reduced.texture import TextureLaw
+
+    law = tmp_path / "summary.json"
+    law.write_text(json.dumps({"texture": TextureLaw.constant(0.456, 1.368, 0.48).to_dict()}))
+    common = ["reduced", "--json", "--cycles", "2", "--samples-per-cycle", "100"]
+    code, stdout, _ = run_cli([*common, "--texture", str(law), "--out", str(tmp_path / "t")])
+    assert code == 0
+    textured = json.loads(stdout)
+    code, stdout, _ = run_cli([*common, "--no-figures", "--out", str(tmp_path / "p")])
+    paper = json.loads(stdout)
+    assert textured["model"] == "texture" and paper["model"] == "paper"
+    np.testing.assert_allclose(textured["advance_per_cycle_mm"], paper["advance_per_cycle_mm"])
+    assert textured["work_mJ"] == pytest.approx(paper["work_mJ"], rel=1e-12)
+    assert (tmp_path / "t" / "texture.png").stat().st_size > 0
+
+
+def test_reduced_refuses_a_file_without_a_texture_law(tmp_path, run_cli):
+    bad = tmp_path / "summary.json"
+    bad.write_text(json.dumps({"k_N_per_mm": 1.0}))
+    code, _, err = run_cli(["reduced", "--texture", str(bad), "--out", str(tmp_path / "o")])
+    assert code == 2 and "texture" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()
+
+
 def test_ten_bristle_peristaltic_run(tmp_path, run_cli):
     code, stdout, _ = run_cli(
         [

@@ -40,6 +40,19 @@ def test_corner_term_outlines_each_bristle():
     assert build_crawler(_scenario(corners=False)).model.terms[1:] == ()
 
 
+def test_a_flat_substrate_takes_the_scenarios_contact_without_a_corner_term():
+    """A plane has no convex corners: switching a shipped scenario's substrate to flat
+    builds the crawler and the drag test (no corner term), corner contact left on."""
+    from bristlecrawler.crawler.drag import DragTest, build_drag
+    from bristlecrawler.scenario.load import apply_overrides
+
+    sc = apply_overrides(_scenario(corners=True), ["substrate.kind=flat"])
+    assert sc.contact.corners
+    assert [type(t) for t in build_crawler(sc).model.terms] == [SubstrateContact]
+    drag = build_drag(to_spec(sc), DragTest(direction="along", distance=2.0))
+    assert [type(t) for t in drag.model.terms] == [SubstrateContact]
+
+
 @pytest.mark.parametrize("discs", [False, True])
 def test_axis_points_as_discs_of_half_thickness(discs):
     cm = build_crawler(_scenario(surface=False, discs=discs))

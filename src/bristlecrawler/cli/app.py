@@ -39,6 +39,7 @@ def _register() -> None:
     from bristlecrawler.cli import (
         drag,
         experiment,
+        predict,
         reduced,
         reproduce,
         scenario,
@@ -52,6 +53,7 @@ def _register() -> None:
     verify.register(app)
     simulate.register(app)
     drag.register(app)
+    predict.register(app)
     scenario.register(app)
     sweep.register(app)
     reproduce.register(app)

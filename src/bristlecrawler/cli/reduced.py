@@ -68,6 +68,14 @@ def reduced_cmd(
             help="CSV with header and columns t (s), s (mm), instead of the sin^2 stroke",
         ),
     ] = None,
+    texture: Annotated[
+        Path | None,
+        typer.Option(
+            "--texture",
+            help="a drag test's summary.json: the crawler on its texture law (then --fp, --fn "
+            "and --k are not used)",
+        ),
+    ] = None,
     samples: Annotated[int, typer.Option("--samples-per-cycle", help="samples per period")] = 2000,
     out: OutFolder = None,
     replace: ReplaceRun = False,
@@ -100,6 +108,7 @@ def reduced_cmd(
             "stroke": stroke,
             "actuator": actuator,
             "history": None if history is None else str(history),
+            "texture": None if texture is None else str(texture),
             "samples_per_cycle": samples,
         },
         option_names(ReducedConfig, samples_per_cycle="--samples-per-cycle"),

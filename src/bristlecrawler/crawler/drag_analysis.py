@@ -164,6 +164,7 @@ class DragResult:
 
         fp = along.mean if along else nan
         k = self.secant_stiffness(0)
+        law = self.texture()
         return {
             "k_N_per_mm": k,
             "k_unload_N_per_mm": float(np.mean(unload)) if unload else nan,
@@ -178,7 +179,20 @@ class DragResult:
             "steps": int(self.stats.get("steps", self.t.size - 1)),
             "newton_iterations": int(self.stats.get("newton_iterations", 0)),
             "wall_time_s": float(self.stats.get("wall_time_s", nan)),
+            "texture": law.to_dict() if law is not None else None,
         }
+
+    def texture(self, cells: int | None = None):
+        """The bristle's :class:`~bristlecrawler.reduced.texture.TextureLaw` (resistance
+        over the tip's position within a pitch, both ways), or None when the test did not
+        slide both ways (see :mod:`.drag_texture`)."""
+        from bristlecrawler.crawler.drag_texture import DEFAULT_CELLS, texture_law
+        from bristlecrawler.errors import InputError
+
+        try:
+            return texture_law(self, cells or DEFAULT_CELLS)
+        except InputError:
+            return None
 
     def energy_balance_rel_error(self) -> float:
         e = self.energies
@@ -221,9 +235,66 @@ class DragResult:
                 "mu": self.mu,
             },
         )
-        clean = {k: v for k, v in self.summary().items() if isinstance(v, int | float)}
+        summary = self.summary()
+        clean = {k: v for k, v in summary.items() if isinstance(v, int | float)}
         ds.attrs.update(clean | (attrs or {}))
+        ds.attrs["legs"] = np.asarray(self.legs, dtype=np.int64).ravel()
+        law = summary["texture"]
+        if law is not None:
+            ds = ds.assign(_texture_variables(law))
         return ds
+
+    @classmethod
+    def from_dataset(cls, ds, legs=None) -> DragResult:
+        """The result back from :meth:`to_dataset`'s Dataset (``legs``: (start, end,
+        direction) per leg, for a file written without them)."""
+        legs = legs if legs is not None else np.asarray(ds.attrs["legs"]).reshape(-1, 3)
+        energies = {
+            name[len("energy_") :]: ds[name].values
+            for name in ds.data_vars
+            if name.startswith("energy_")
+        }
+        return cls(
+            t=ds["time"].values,
+            x=ds["carriage_x"].values,
+            lift=ds["carriage_lift"].values,
+            force_x=ds["force_x"].values,
+            contact=ds["contact_force"].values,
+            tip=ds["tip_position"].values,
+            tip_state=ds["tip_state"].values.astype(int),
+            energies=energies,
+            pitch=float(ds.attrs["pitch_mm"]),
+            load=float(ds.attrs["load_N"]),
+            mu=float(ds.attrs["mu"]),
+            legs=tuple(tuple(int(v) for v in leg) for leg in legs),
+            stats={k: ds.attrs[k] for k in ("steps", "newton_iterations") if k in ds.attrs},
+        )
+
+
+def _texture_variables(law: dict) -> dict:
+    """The texture law as Dataset variables over its cells (dim ``cell``)."""
+    n = len(law["fp_N"])
+    centre = (np.arange(n) + 0.5) * law["cell_mm"] + law["origin_mm"]
+    fn = np.array([np.inf if v == "inf" else v for v in law["fn_N"]], dtype=float)
+    common = {"pitch_mm": law["pitch_mm"], "origin_mm": law["origin_mm"]}
+    return {
+        "texture_position": ("cell", centre, {"units": "mm", "long_name": "cell centre"}),
+        "texture_fp": (
+            "cell",
+            np.asarray(law["fp_N"], dtype=float),
+            {"units": "N", "long_name": "resistance along the grain (F_p(x))"} | common,
+        ),
+        "texture_fn": (
+            "cell",
+            fn,
+            {
+                "units": "N",
+                "long_name": "resistance against the grain (F_n(x))",
+                "k_N_per_mm": law["k_N_per_mm"],
+                "tip_offset_mm": law["tip_offset_mm"],
+            },
+        ),
+    }
 
 
 def _mean_over(x, f, lo, hi) -> float:

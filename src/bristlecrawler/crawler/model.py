@@ -192,7 +192,9 @@ def _add_contact(s, spec: CrawlerSpec, chains):
         SubstrateContact.params(X, term.nodes, spec.substrate, law, radius=radius, offset=offsets),
     )
     corners = None
-    if spec.contact.corners:
+    # The corner term is contact with the substrate's convex corners: a substrate without
+    # any (a flat plane) needs none, whatever the contact settings ask for.
+    if spec.contact.corners and _has_convex_corners(spec.substrate):
         from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
 
         outlines = [
@@ -210,6 +212,13 @@ def _add_contact(s, spec: CrawlerSpec, chains):
             FaceCornerContact.params(X, faces, [o[1] for o in outlines], spec.substrate, law),
         )
     return term, corners, tip_points
+
+
+def _has_convex_corners(substrate) -> bool:
+    from bristlecrawler.contact.corner import convex_corners
+    from bristlecrawler.contact.substrates import Flat
+
+    return not isinstance(substrate, Flat) and len(convex_corners(substrate)[0]) > 0
 
 
 def _drawing(body, clamps, chains):

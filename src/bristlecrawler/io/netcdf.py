@@ -29,6 +29,9 @@ def reduced_dataset(result: ReducedResult, attrs: dict[str, Any] | None = None) 
 
     c = result.crawler
     n = c.n_bristles
+    laws = getattr(c, "laws", None)  # a crawler on a texture: its laws, and their means
+    if laws is not None:
+        c = c.paper_crawler()
     ev = result.events
     ds = xr.Dataset(
         data_vars={
@@ -105,6 +108,13 @@ def reduced_dataset(result: ReducedResult, attrs: dict[str, Any] | None = None) 
         },
         attrs={"model": "bristlecrawler reduced 1-D model", "units": "mm, N, s, mJ"},
     )
+    if laws is not None and len({law.n_cells for law in laws}) == 1:
+        ds = ds.assign(
+            texture_fp=(("bristle", "cell"), np.array([law.fp_N for law in laws]), {"units": "N"}),
+            texture_fn=(("bristle", "cell"), np.array([law.fn_N for law in laws]), {"units": "N"}),
+        )
+        ds.attrs["texture_pitch_mm"] = laws[0].pitch_mm
+        ds["fp"].attrs["long_name"] = "mean of F_p(x) over a pitch"
     if attrs:
         ds.attrs.update(
             {k: (v if isinstance(v, int | float | str) else str(v)) for k, v in attrs.items()}

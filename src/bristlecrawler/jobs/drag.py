@@ -2,8 +2,9 @@
 
 Output folder (``runs/<timestamp>-drag-<name>`` unless given): ``config.json`` (the
 resolved scenario and the test), ``meta.json``, ``drag.nc`` (the series, xarray/NetCDF),
-``drag.png`` (force against carriage travel, the sliding means marked) and
-``summary.json`` (k, F_p, F_n with their scatter and peaks, dissipation per mm).
+``drag.png`` (force against carriage travel, the sliding means marked), ``texture.png``
+(the texture law over one pitch, for a test that slid both ways) and ``summary.json``
+(k, F_p, F_n with their scatter and peaks, dissipation per mm, the texture law).
 """
 
 from __future__ import annotations
@@ -74,6 +75,14 @@ def run_drag(
         from bristlecrawler.viz.reduced import save_figure
 
         save_figure(plot_drag(r, title=f"{sc.name}: drag test"), run.path / "drag.png")
+        law = r.texture()
+        if law is not None:
+            from bristlecrawler.crawler.drag_texture import reduced_tip
+            from bristlecrawler.viz.drag import plot_texture
+
+            tip = (reduced_tip(r, law.k_N_per_mm), r.force_x)
+            fig = plot_texture(law, tip, title=f"{sc.name}: texture law over one pitch")
+            save_figure(fig, run.path / "texture.png")
         summary = r.summary() | {"output_dir": str(run.target)}
         run.write_json("summary.json", summary)
     return DragRun(r, summary, run.target)

@@ -29,11 +29,35 @@ class ReducedRun:
     notes: tuple[str, ...] = ()
 
 
+def read_texture(path: str | Path):
+    """The :class:`TextureLaw` in a drag test's ``summary.json`` (key ``texture``) or in a
+    JSON file holding the law itself; InputError (one line) otherwise."""
+    import json
+
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.reduced.texture import TextureLaw
+
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as err:
+        raise InputError(f"texture {path}: cannot read a JSON file ({err})") from None
+    law = data.get("texture", data) if isinstance(data, dict) else None
+    if not isinstance(law, dict):
+        raise InputError(f"texture {path}: no texture law (run a drag test with direction cycle)")
+    return TextureLaw.from_dict(law)
+
+
 def build(config: ReducedConfig):
-    """Crawler and gait described by ``config`` (reads the history file if any)."""
-    crawler = ReducedCrawler.uniform(
-        config.bristles, config.length, config.k, config.fp, config.fn_resolved
-    )
+    """Crawler and gait described by ``config`` (reads the history and texture files)."""
+    if config.texture is not None:
+        from bristlecrawler.reduced.textured import TexturedCrawler
+
+        law = read_texture(config.texture)
+        crawler = TexturedCrawler.uniform(law, config.bristles, config.length)
+    else:
+        crawler = ReducedCrawler.uniform(
+            config.bristles, config.length, config.k, config.fp, config.fn_resolved
+        )
     if config.history is not None:
         stroke = read_history_csv(config.history)
         crawler.check_stroke(stroke.s_max)
@@ -66,7 +90,8 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
         "energy_balance_rel_error": result.energy_balance_error,
         "bristles": result.crawler.n_bristles,
         "gait": config.gait,
-        "fp_over_k_mm": float(config.fp / config.k),
+        "model": "paper" if config.texture is None else "texture",
+        "fp_over_k_mm": _fp_over_k(result.crawler, config),
         "samples": int(result.t.size),
         "events": len(result.events),
         "warnings": [],
@@ -76,7 +101,8 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
             f"energy balance residual {result.energy_balance_error:.1e} (normal: below "
             f"{BALANCE_WARN:g}): the event-driven solver lost track of a stick/slip event"
         )
-    if config.bristles == 2 and config.history is None and config.actuator == "sin2":
+    plain = config.history is None and config.actuator == "sin2" and config.texture is None
+    if config.bristles == 2 and plain:
         out["regime"] = int(cf.regime(config.s_max, config.fp / config.k))
         out["closed_form_net_advance_mm"] = float(
             cf.net_advance(config.s_max, config.fp / config.k, config.cycles)
@@ -85,6 +111,14 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
             cf.work(config.s_max, config.fp, config.k, config.cycles)
         )
     return out
+
+
+def _fp_over_k(crawler, config: ReducedConfig) -> float:
+    """F_p/k of the run, mm (a texture law's: its mean F_p over its k)."""
+    if config.texture is None:
+        return float(config.fp / config.k)
+    law = crawler.laws[0]
+    return float(law.mean_fp_N / law.k_N_per_mm)
 
 
 def run_reduced(
@@ -122,9 +156,15 @@ def run_reduced(
 
             title = (
                 f"reduced model: N={crawler.n_bristles}, {config.gait}, "
-                f"F_p/k={config.fp / config.k:.3g} mm, net {result.net_advance:.2f} mm"
+                f"F_p/k={summary['fp_over_k_mm']:.3g} mm, net {result.net_advance:.2f} mm"
             )
             save_figure(plot_delta_vs_s(result, title=title), run.path / "delta_vs_s.png")
-            save_figure(plot_friction_law(crawler.friction(0)), run.path / "friction_law.png")
+            if config.texture is None:
+                law = plot_friction_law(crawler.friction(0))
+                save_figure(law, run.path / "friction_law.png")
+            else:
+                from bristlecrawler.viz.drag import plot_texture
+
+                save_figure(plot_texture(crawler.laws[0]), run.path / "texture.png")
         run.write_json("summary.json", summary)
     return ReducedRun(result, summary, run.target, tuple(run.notes))

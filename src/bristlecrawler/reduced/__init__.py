@@ -9,6 +9,9 @@ Public API (units: mm, N, s, mJ):
 * :func:`simulate` / :func:`solve`: the exact rate-independent solver -> :class:`ReducedResult`.
 * :mod:`closed_form`: two-bristle closed forms in all regimes (vectorised).
 * :func:`calibrate`: F_p/k, F_p, k from advance and work.
+* :class:`TextureLaw`: a bristle's resistance over its tip's position within a pitch;
+  :class:`TexturedCrawler`: N bristles on it (``simulate`` solves it exactly);
+  :mod:`textured_pair`: two-bristle designs in batches.
 """
 
 from bristlecrawler.reduced import closed_form
@@ -40,6 +43,8 @@ from bristlecrawler.reduced.strokes import (
     TriangleStroke,
     read_history_csv,
 )
+from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.reduced.textured import TexturedCrawler
 
 __all__ = [
     "DEFAULT_FN_OVER_FP",
@@ -60,6 +65,8 @@ __all__ = [
     "ReducedResult",
     "SampledStroke",
     "Sin2Stroke",
+    "TextureLaw",
+    "TexturedCrawler",
     "TriangleStroke",
     "breathing",
     "calibrate",

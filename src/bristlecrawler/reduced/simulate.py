@@ -9,6 +9,7 @@ from bristlecrawler.reduced.crawler import ReducedCrawler
 from bristlecrawler.reduced.gaits import Gait, breathing
 from bristlecrawler.reduced.solver import ReducedResult, solve
 from bristlecrawler.reduced.strokes import SampledStroke, Stroke
+from bristlecrawler.reduced.textured import TexturedCrawler, solve_textured
 
 
 def _excursion_bounds(s: np.ndarray) -> np.ndarray:
@@ -47,7 +48,7 @@ def cycle_bounds(gait: Gait, t: np.ndarray, cycles: int) -> np.ndarray:
 
 
 def simulate(
-    crawler: ReducedCrawler,
+    crawler: ReducedCrawler | TexturedCrawler,
     stroke: Stroke | Gait,
     cycles: int = 5,
     samples_per_cycle: int = 2000,
@@ -55,7 +56,7 @@ def simulate(
     """Run the exact quasi-static solver over ``cycles`` strokes.
 
     Args:
-        crawler: the reduced crawler.
+        crawler: the reduced crawler (the paper's law, or on a texture).
         stroke: a stroke (all segments breathe in phase) or a :class:`Gait`.
         cycles: number of cycles (ignored for a sampled history, which is replayed whole).
         samples_per_cycle: samples per period for analytic strokes (rounded up to even so
@@ -76,4 +77,6 @@ def simulate(
     if isinstance(gait.stroke, SampledStroke):
         t = t + gait.stroke.t[0]
     bounds = cycle_bounds(gait, t - t[0], int(cycles))
+    if isinstance(crawler, TexturedCrawler):
+        return solve_textured(crawler, t, shortening, bounds)
     return solve(crawler, t, shortening, bounds)

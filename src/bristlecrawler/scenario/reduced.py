@@ -82,6 +82,11 @@ class ReducedConfig(BaseModel):
         "target s_max (then period is not used)",
     )
     history: str | None = Field(None, description="CSV file with columns t (s) and s (mm)")
+    texture: str | None = Field(
+        None,
+        description="a drag test's summary.json: the crawler on its texture law (k, F_p(x), "
+        "F_n(x) over a pitch); fp, fn and k are then not used",
+    )
     samples_per_cycle: int = Field(
         2000, ge=2, le=10_000_000, description="samples per period of an analytic stroke"
     )

@@ -159,6 +159,7 @@ def evaluate_reduced_chunk(
         & (col("stroke") == "sin2")
         & (col("actuator") == "sin2")
         & (col("history") == None)  # noqa: E711 (elementwise)
+        & (col("texture") == None)  # noqa: E711 (elementwise)
     )
     if solver != "auto":
         bulk[:] = False

@@ -42,3 +42,32 @@ def plot_drag(r, title: str = ""):
         ax.set_title(title)
     fig.tight_layout()
     return fig
+
+
+def plot_texture(law, samples=None, title: str = ""):
+    """A texture law over one pitch: F_p(x) (along the grain) above the axis and -F_n(x)
+    (against it) below, as steps over the cells (N against the position within the pitch,
+    mm); walls and lock positions as vertical lines. ``samples``: optional (position mm,
+    force N) of a drag test's reduced tip, shown mod the pitch as dots."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.0, 4.0))
+    edges = np.arange(law.n_cells + 1) * law.cell_mm
+    fp = np.append(law.fp_N, law.fp_N[-1])
+    fn = np.where(np.isfinite(law.fn_N), law.fn_N, np.nan)
+    fn = np.append(fn, fn[-1])
+    if samples is not None:
+        x, f = samples
+        ax.plot((x - law.origin_mm) % law.pitch_mm, f, ".", ms=2, color="0.7", label="drag test")
+    ax.step(edges, fp, where="post", color="tab:green", lw=1.5, label="F_p(x), along")
+    ax.step(edges, -fn, where="post", color="tab:purple", lw=1.5, label="-F_n(x), against")
+    locks = np.concatenate([law.lock_positions_mm, law.lock_positions_mm + law.pitch_mm])
+    for j, x in enumerate(locks):
+        ax.axvline(x, color="k", ls=":", lw=1.5, label="lock (wall)" if j == 0 else None)
+    ax.axhline(0.0, color="0.5", lw=0.5)
+    ax.set_xlim(0.0, law.pitch_mm)
+    ax.set_xlabel(f"tip position within a pitch (mm from {law.origin_mm:g} mm)")
+    ax.set_ylabel("resistance of the substrate (N)")
+    ax.set_title(title or f"texture law, k = {law.k_N_per_mm:.3f} N/mm")
+    ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    return fig

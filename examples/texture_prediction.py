@@ -1,0 +1,158 @@
+"""Prediction of the FE crawler on grooves: the texture model against the paper's model.
+
+For each design (a set of scenario overrides on ``paper``): the drag test of its bristle
+on its substrate (cached, as ``bristlecrawler predict`` does), the reduced crawler on the
+texture law it gives, the paper's reduced model with its k, F_p and F_n, and the FE
+crawler's steady cycle (the last of two) and work. A prediction hits when its steady-cycle
+advance is within half a pitch of the FE's. ::
+
+    python examples/texture_prediction.py                 # the designs with FE results below
+    python examples/texture_prediction.py --grid --fe     # the 24-design grid, FE runs too
+
+``FE_MEASURED`` holds FE results of the findings (docs/findings.md: the pitch study and
+the bristle-count study, two cycles of s~ = 20 mm at 45 degrees), so that the table needs
+no FE run; ``--fe`` runs the FE crawler for every design instead (minutes each).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+
+import numpy as np
+
+from bristlecrawler.scenario.convert import to_spec
+from bristlecrawler.scenario.load import apply_overrides, load_scenario
+
+#: FE crawler, two cycles: (advance per cycle mm, work over both cycles mJ), from
+#: docs/findings.md (``bristlecrawler simulate paper --cycles 2 --set ...`` and
+#: ``python examples/n_bristle_crawler.py --cycles 2 --bristles 2 3 4``).
+FE_MEASURED = {
+    ("substrate.pitch=1.5",): ((18.53, 18.00), 19.26),
+    (): ((17.60, 16.00), 17.83),
+    ("substrate.pitch=2.5",): ((16.12, 15.00), 16.68),
+    ("substrate.pitch=3.0",): ((18.45, 18.00), 16.59),
+    ("substrate.pitch=4.0",): ((15.60, 12.00), 15.57),
+    ("bristle.count=3",): ((28.01, 28.00), 35.03),
+    ("bristle.count=4",): ((35.30, 34.01), 49.90),
+}
+
+
+def grid() -> list[tuple[str, ...]]:
+    """24 designs: inclination 30/45/60 degrees x pitch 1.5/2/3/4 mm, with 2, 3 or 4
+    bristles and strokes from 8 to 20 mm in turn."""
+    out = []
+    for j, (alpha, pitch) in enumerate(itertools.product((30, 45, 60), (1.5, 2.0, 3.0, 4.0))):
+        for m in range(2):
+            i = 2 * j + m
+            out.append(
+                (
+                    f"bristle.alpha_deg={alpha}",
+                    f"substrate.pitch={pitch}",
+                    f"bristle.count={2 + i % 3}",
+                    f"actuation.s_max={8 + (5 * i) % 13}",
+                )
+            )
+    return out
+
+
+def scenario(overrides):
+    return apply_overrides(load_scenario("paper"), [*overrides, "actuation.cycles=2"])
+
+
+def fe_run(sc) -> tuple[tuple[float, ...], float]:
+    from bristlecrawler.crawler import run
+
+    h = run(to_spec(sc))
+    return tuple(float(a) for a in h.advance_per_cycle()), float(h.connector_work[-1])
+
+
+def is_cached(overrides) -> bool:
+    """Whether the design's drag test is in the drag cache."""
+    from bristlecrawler.jobs.predict import cache_folder, cache_key, prediction_drag_test
+
+    sc = scenario(overrides)
+    key = cache_key(sc, prediction_drag_test(to_spec(sc)))
+    return (cache_folder() / f"{key}.json").is_file()
+
+
+def evaluate(overrides, fe=None) -> dict:
+    """One design's row: FE (given or run), texture and paper models."""
+    from bristlecrawler.jobs.predict import cached_drag, predict_models, prediction_drag_test
+
+    sc = scenario(overrides)
+    spec = to_spec(sc)
+    summary, _ = cached_drag(sc, prediction_drag_test(spec))
+    models = predict_models(spec, summary, cycles=2)
+    fe_adv, fe_work = fe if fe is not None else fe_run(sc)
+    pitch = summary["texture"]["pitch_mm"]
+    row = {"design": " ".join(overrides) or "paper", "pitch_mm": pitch, "fe_steady_mm": fe_adv[-1]}
+    for name, m in models.items():
+        steady = m.advance_per_cycle_mm[-1]
+        row[f"{name}_steady_mm"] = steady
+        row[f"{name}_hit"] = abs(steady - fe_adv[-1]) <= 0.5 * pitch
+        row[f"{name}_work_error"] = m.work_mJ / fe_work - 1.0
+    row["fe_work_mJ"] = fe_work
+    return row
+
+
+def markdown(rows) -> str:
+    """The rows as the findings' table."""
+    head = (
+        "| design | pitch (mm) | FE steady cycle (mm) | texture model (mm) | paper's model "
+        "(mm) | FE work (mJ) | texture work | paper work |\n|---|---|---|---|---|---|---|---|"
+    )
+    lines = [head]
+    for r in rows:
+        lines.append(
+            f"| {r['design']} | {r['pitch_mm']:g} | {r['fe_steady_mm']:.2f} | "
+            f"{r['texture_steady_mm']:.2f}{'' if r['texture_hit'] else ' (miss)'} | "
+            f"{r['paper_steady_mm']:.2f}{'' if r['paper_hit'] else ' (miss)'} | "
+            f"{r['fe_work_mJ']:.2f} | {r['texture_work_error']:+.1%} | "
+            f"{r['paper_work_error']:+.1%} |"
+        )
+    return "\n".join(lines)
+
+
+def main(argv=None) -> list[dict]:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--grid", action="store_true", help="the 24-design grid (needs --fe)")
+    p.add_argument("--fe", action="store_true", help="run the FE crawler for every design")
+    p.add_argument(
+        "--cached-only", action="store_true", help="skip designs whose drag test is not cached"
+    )
+    p.add_argument("--markdown", action="store_true", help="print the table as Markdown")
+    args = p.parse_args(argv)
+    designs = grid() if args.grid else list(FE_MEASURED)
+    rows = []
+    for d in designs:
+        if args.cached_only and not is_cached(d):
+            print(f"{' '.join(d) or 'paper'}: no cached drag test, skipped")
+            continue
+        try:
+            rows.append(evaluate(d, None if args.fe else FE_MEASURED[d]))
+        except Exception as exc:  # a design that fails is reported, the others go on
+            print(f"{' '.join(d)}: {type(exc).__name__}: {exc}")
+    print(f"{'design':40s} {'FE':>6s} {'texture':>8s} {'paper':>6s}  work err (tex, paper)")
+    for r in rows:
+        errors = f"{r['texture_work_error']:+.1%} {r['paper_work_error']:+.1%}"
+        print(
+            f"{r['design']:40s} {r['fe_steady_mm']:6.2f} {r['texture_steady_mm']:8.2f} "
+            f"{r['paper_steady_mm']:6.2f}  {errors}"
+        )
+    if args.markdown:
+        print(markdown(rows))
+    for name in ("texture", "paper"):
+        hits = sum(r[f"{name}_hit"] for r in rows)
+        err = np.abs([r[f"{name}_work_error"] for r in rows])
+        print(
+            f"{name}: {hits}/{len(rows)} within half a pitch; work error median "
+            f"{np.median(err):.1%}, max {err.max():.1%}"
+            if rows
+            else f"{name}: no designs"
+        )
+    return rows
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,76 @@
+"""``bristlecrawler predict``: the reduced models' advance and work for a scenario."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from bristlecrawler.cli.options import JsonSummary
+
+
+def predict_cmd(
+    scenario: Annotated[
+        str, typer.Argument(help="shipped scenario (paper, paper-vertical) or a TOML file")
+    ] = "paper",
+    assign: Annotated[
+        list[str] | None,
+        typer.Option("--set", help="override a scenario value, section.key=value; repeatable"),
+    ] = None,
+    cycles: Annotated[
+        int | None,
+        typer.Option("--cycles", help="number of strokes [default: the scenario's]"),
+    ] = None,
+    as_json: JsonSummary = False,
+) -> None:
+    """Predict a design's advance and work with the reduced models, before any FE run.
+
+    Runs a drag test of the scenario's bristle over its substrate (minutes; cached in
+    ~/.cache/bristlecrawler/drag or $BRISTLECRAWLER_DRAG_CACHE), then the reduced crawler
+    on the texture law it gives and the paper's reduced model with its k, F_p, F_n.
+    """
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.fe import enable_compilation_cache
+    from bristlecrawler.jobs.predict import run_predict
+    from bristlecrawler.scenario.load import apply_overrides, load_scenario
+
+    if cycles is not None and not 1 <= cycles <= 1000:
+        raise InputError(f"--cycles must be between 1 and 1000, got {cycles}")
+    sc = load_scenario(scenario)
+    if assign:
+        sc = apply_overrides(sc, list(assign))
+    enable_compilation_cache()
+    result = run_predict(sc, cycles, progress=None if not as_json else False)
+    if as_json:
+        from bristlecrawler.io.jsonio import dumps_strict
+
+        typer.echo(dumps_strict(result))
+        return
+    _print(result)
+
+
+def _print(r: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"{r['scenario']}: reduced models, {r['cycles']} cycles")
+    table.add_column("model")
+    table.add_column("advance per cycle (mm)", justify="right")
+    table.add_column("net advance (mm)", justify="right")
+    table.add_column("work (mJ)", justify="right")
+    for name, label in (("texture", "texture law"), ("paper", "paper (k, F_p, F_n)")):
+        m = r[name]
+        per = ", ".join(f"{a:.2f}" for a in m["advance_per_cycle_mm"])
+        table.add_row(label, per, f"{m['net_advance_mm']:.3f}", f"{m['work_mJ']:.3f}")
+    console = Console()
+    console.print(table)
+    d = r["drag"]
+    where = "cached" if d["cached"] else "run now"
+    console.print(
+        f"drag test ({where}): k = {d['k_N_per_mm']:.3f} N/mm, F_p = {d['fp_N']:.3f} N, "
+        f"F_n = {d['fn_N']:.3f} N, pitch {d['pitch_mm']:g} mm"
+    )
+
+
+def register(app: typer.Typer) -> None:
+    app.command("predict")(predict_cmd)

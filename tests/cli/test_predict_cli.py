@@ -1,0 +1,88 @@
+"""``bristlecrawler predict``: both reduced models from a (cached) drag test, bad input."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bristlecrawler.io.jsonio import dumps_strict
+from bristlecrawler.jobs import predict
+from bristlecrawler.jobs.drag import DragRun
+from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.scenario.convert import to_spec
+from bristlecrawler.scenario.load import load_scenario
+
+K, FP, FN = 1.2, 0.22, 0.5
+
+
+def _summary(law: TextureLaw) -> dict:
+    return {"k_N_per_mm": K, "fp_N": FP, "fn_N": FN, "texture": law.to_dict()}
+
+
+def _entry(tmp_path, monkeypatch) -> Path:
+    monkeypatch.setenv("BRISTLECRAWLER_DRAG_CACHE", str(tmp_path / "cache"))
+    sc = load_scenario("paper")
+    key = predict.cache_key(sc, predict.prediction_drag_test(to_spec(sc)))
+    return tmp_path / "cache" / f"{key}.json"
+
+
+def _no_drag(*args, **kwargs):
+    raise AssertionError("a drag test ran")
+
+
+def test_a_constant_law_predicts_what_the_papers_model_does(tmp_path, monkeypatch, run_cli):
+    """From the cache, no drag test: with a law constant over the pitch the texture model
+    is the paper's model (same advance per cycle and work)."""
+    path = _entry(tmp_path, monkeypatch)
+    path.parent.mkdir(parents=True)
+    law = TextureLaw.constant(FP, FN, K, pitch=2.0)
+    path.write_text(dumps_strict({"version": predict.CACHE_VERSION, "summary": _summary(law)}))
+    monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", _no_drag)
+    code, out, _ = run_cli(["predict", "--cycles", "2", "--json"])
+    assert code == 0
+    r = json.loads(out)
+    assert r["drag"]["cached"] is True
+    for model in ("texture", "paper"):
+        assert len(r[model]["advance_per_cycle_mm"]) == 2
+        assert sum(r[model]["advance_per_cycle_mm"]) == pytest.approx(r[model]["net_advance_mm"])
+    np.testing.assert_allclose(
+        r["texture"]["advance_per_cycle_mm"], r["paper"]["advance_per_cycle_mm"], atol=1e-9
+    )
+    assert r["texture"]["work_mJ"] == pytest.approx(r["paper"]["work_mJ"], rel=1e-9)
+
+
+def test_a_corrupt_cache_entry_is_run_again_and_replaced(tmp_path, monkeypatch, run_cli):
+    path = _entry(tmp_path, monkeypatch)
+    path.parent.mkdir(parents=True)
+    path.write_text('{"version": 2, "summ')
+    calls = []
+    law = TextureLaw.sawtooth(2.0, FP, K, cells=4)
+
+    def fake(sc, test, write=True, progress=None):
+        calls.append(test)
+        return DragRun(None, _summary(law), None)
+
+    monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", fake)
+    code, out, _ = run_cli(["predict", "--cycles", "1", "--json"])
+    assert code == 0 and len(calls) == 1 and calls[0].direction == "cycle"
+    assert json.loads(out)["drag"]["cached"] is False
+    assert json.loads(path.read_text())["summary"]["texture"]["walls_mm"] == [0.0]
+    assert [p.name for p in path.parent.iterdir()] == [path.name]  # no temporary left
+
+
+@pytest.mark.parametrize(
+    "args, word",
+    [
+        (["--cycles", "0"], "cycles"),
+        (["nosuch"], "scenario"),
+        (["--set", "substrate.pitch=-1"], "pitch"),
+        (["--set", "bristle.count=1"], "count"),
+    ],
+)
+def test_bad_input_one_line_exit_2_before_any_drag(args, word, tmp_path, monkeypatch, run_cli):
+    _entry(tmp_path, monkeypatch)
+    monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", _no_drag)
+    code, out, err = run_cli(["predict", *args])
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and word in err
