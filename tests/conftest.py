@@ -81,9 +81,7 @@ def pytest_runtest_logreport(report):
 
 
 def pytest_terminal_summary(terminalreporter):
-    slow = sorted(
-        ((t, n) for n, t in _unmarked_slow.items() if t > SLOW_TEST_S), reverse=True
-    )
+    slow = sorted(((t, n) for n, t in _unmarked_slow.items() if t > SLOW_TEST_S), reverse=True)
     if slow:
         terminalreporter.section("unmarked tests over 10 s (mark them slow)")
         for t, n in slow:

@@ -257,7 +257,7 @@ def _register_custom_calls() -> None:
         from jax._src.lax.linalg import initialize_lapack
 
         initialize_lapack()
-    except Exception:  # noqa: BLE001 - the private hook moved: lowering a solve registers them
+    except Exception:  # the private hook moved: lowering a solve registers them
         import jax.numpy as jnp
 
         jax.jit(jnp.linalg.solve).lower(jnp.eye(2), jnp.ones(2))
