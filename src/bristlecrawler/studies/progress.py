@@ -67,10 +67,9 @@ class SweepProgress:
         return format_eta(eta_seconds(self.total - self.done, self.seconds, self.workers))
 
     def _refresh(self) -> None:
-        text = (
-            f"{self.done}/{self.total} finished ({self.failed} failed), {self.busy} running, "
-            f"{self.eta()}"
-        )
+        text = f"{self.done}/{self.total} finished, {self.failed} failed, {self.busy} running"
+        if self.done < self.total:
+            text += f", {self.eta()}"
         self._bar.update(self._task, completed=self.done, text=text)
 
     def running(self, n: int) -> None:

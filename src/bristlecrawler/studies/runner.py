@@ -243,7 +243,8 @@ def _announce(p: Plan, out: Path, todo, workers: int) -> None:
     else:
         seconds = -(-n // workers) * before.seconds
         expect = f"expected {duration(seconds)} (its last run here, {before.utc[:10]})"
-    announce("sweep", f"{n} designs on {workers} workers into {out}; {expect}")
+    on = f"{workers} worker{'s' * (workers > 1)}"
+    announce("sweep", f"{n} designs on {on} into {out}; {expect}")
 
 
 def _workers(client) -> int:
