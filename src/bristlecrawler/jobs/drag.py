@@ -65,7 +65,7 @@ def run_drag(
     from bristlecrawler.io.costs import record
     from bristlecrawler.io.netcdf import write_netcdf
     from bristlecrawler.io.runs import claim_run_dir
-    from bristlecrawler.jobs.estimates import announce, expected, scenario_key
+    from bristlecrawler.jobs.estimates import announce, expected, run_seconds, scenario_key
 
     key = scenario_key("drag", {"scenario": sc.model_dump(mode="json"), "test": repr(test)})
     with claim_run_dir(out, f"drag-{sc.name}", replace=replace, command=command) as run:
@@ -84,5 +84,5 @@ def run_drag(
         save_figure(plot_drag(r, title=f"{sc.name}: drag test"), run.path / "drag.png")
         summary = r.summary() | {"output_dir": str(run.target)}
         run.write_json("summary.json", summary)
-        record("drag", key, time.perf_counter() - t0)
+        record("drag", key, run_seconds(time.perf_counter() - t0, r.stats))
     return DragRun(r, summary, run.target)

@@ -45,8 +45,8 @@ def compile_note(spec, what: str = "crawler") -> str:
     if before is None:
         return f"compiling the FE programs for this structure, first time only: {FIRST_COMPILE}"
     return (
-        "loading the FE programs for this structure from the compilation cache "
-        f"(compiled here before; last time {duration(before.seconds)})"
+        "loading the FE programs for this structure from the compilation cache (the "
+        f"last time they were compiled or loaded here took {duration(before.seconds)})"
     )
 
 
@@ -91,11 +91,23 @@ def scenario_key(kind: str, config: dict[str, Any]) -> str:
 
 
 def expected(kind: str, key: str, otherwise: str) -> str:
-    """``expected: about 3 min (measured here on DATE)``, or ``otherwise``."""
+    """``expected about 3 min once the FE programs are ready (its last run here, DATE)``,
+    or ``otherwise``: runs are recorded without their compile time, which the compile
+    line states on its own."""
     before = recorded(kind, key)
     if before is None:
         return otherwise
-    return f"expected {duration(before.seconds)} (its last run here, {before.utc[:10]})"
+    when = before.utc[:10]
+    return (
+        f"expected {duration(before.seconds)} once the FE programs are ready "
+        f"(its last run here, {when})"
+    )
+
+
+def run_seconds(wall_s: float, stats: dict) -> float:
+    """A run's wall time without its compilation (unknown compile time: all of it)."""
+    compile_s = stats.get("compile_time_s", float("nan"))
+    return wall_s - compile_s if compile_s == compile_s else wall_s
 
 
 def announce(label: str, text: str) -> None:

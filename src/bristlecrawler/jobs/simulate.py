@@ -144,7 +144,7 @@ def run_simulation(
 
     from bristlecrawler.io.costs import record
     from bristlecrawler.io.runs import claim_run_dir
-    from bristlecrawler.jobs.estimates import announce, expected, scenario_key
+    from bristlecrawler.jobs.estimates import announce, expected, run_seconds, scenario_key
 
     key = scenario_key("simulate", sc.model_dump(mode="json"))
     with claim_run_dir(out, f"simulate-{sc.name}", replace=replace, command=command) as run:
@@ -160,7 +160,7 @@ def run_simulation(
             print(f"crawler: writing results to {run.target}", file=sys.stderr, flush=True)
         _write_results(run, h, sc, command)
         run.write_json("summary.json", summary)
-        record("simulate", key, time.perf_counter() - t0)
+        record("simulate", key, run_seconds(time.perf_counter() - t0, h.stats))
     return SimulationRun(h, summary, run.target, tuple(run.notes))
 
 
