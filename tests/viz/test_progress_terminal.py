@@ -59,6 +59,16 @@ def test_stage_notes_are_printed_when_the_stage_starts_and_timed_when_it_ends(ca
     assert len(done) == 1 and lines.index(done[0]) > lines.index(notes["compiling"])
 
 
+def test_no_progress_is_silent_even_for_notes(capsys):
+    with parts_progress({"a": 1.0}, enabled=False) as bar:
+        bar.start("a")
+        bar.note("compiling ...")
+        bar.finish("a", True, 1.0)
+    with sim_progress(1.0, enabled=False, notes={"compiling": "x"}) as bar:
+        bar.update(0.0, stage="compiling")
+    assert capsys.readouterr().err == ""
+
+
 def test_parts_lines_give_no_eta_from_a_tiny_first_part(capsys):
     """Nominal shares are not seconds: the first part's second says nothing of the rest."""
     with parts_progress({"a": 0.01, "b": 1.0}, enabled=None) as bar:

@@ -23,6 +23,9 @@ class _Null:
     def finish(self, name: str, ok: bool, wall_s: float) -> None:
         """Do nothing."""
 
+    def note(self, text: str) -> None:
+        """Do nothing."""
+
 
 #: Share of the expected time done before the lines extrapolate an ETA from nominal costs
 #: (a first part of a second says nothing about the FE parts after it).
