@@ -54,7 +54,7 @@ WHY_DRAG = (
 )
 WHY_CALIBRATED = (
     "calibrated on our FE run: F_p/k is fixed by the advance and the work scales with F_p, "
-    "so F_p and k both follow our work, 59 % of the paper's (see the work row)"
+    "so F_p and k both follow our FE work, which is below the paper's (see the work row)"
 )
 BY_CONSTRUCTION = (
     "agrees by construction: the synthetic recording is made with the reduced model at "
