@@ -52,7 +52,7 @@ def no_advance_verdict(values: Sequence[float], tol: float, unit: str = "mm") ->
     half = float(stats.t.ppf(0.5 + LEVEL / 2, n - 1)) * sem
     low, high = mean - half, mean + half
     excluded = max(abs(low), abs(high))
-    interval = f"{LEVEL:.0%} interval {low:+.2f} to {high:+.2f} {unit} from {n} places"
+    interval = f"{LEVEL * 100:.0f} % interval {low:+.2f} to {high:+.2f} {unit} from {n} places"
     if -tol <= low and high <= tol:
         verdict = "agrees"
         reason = f"no advance beyond ±{tol:g} {unit}: the {interval} lies within the tolerance"
