@@ -36,6 +36,13 @@ def pytest_xdist_auto_num_workers(config):
     return max(1, min(os.cpu_count() or 1, 4))
 
 
+@pytest.fixture(autouse=True)
+def _costs_file(tmp_path_factory, monkeypatch):
+    """Commands keep the costs they measure for later estimates: not in the user's file."""
+    folder = tmp_path_factory.mktemp("costs")
+    monkeypatch.setenv("BRISTLECRAWLER_COSTS", str(folder / "costs.json"))
+
+
 @pytest.fixture
 def run_cli(capsys):
     """Run the CLI in-process; returns (exit code, stdout, stderr)."""

@@ -88,13 +88,17 @@ def test_quick_numbers_are_physical(rows):
     assert 0.0 < rows["mean_connector_force_N"]["ours"] < 0.45
 
 
-def test_differences_give_a_reason_and_a_link_that_resolves(quick, rows):
-    out = quick[3]
+def test_differences_give_a_reason_and_name_the_docs_section(quick, rows):
+    """The report travels without the docs: a difference names the section that explains
+    it (and table.json gives its page in docs/), no relative link."""
+    page = (quick[3] / "report.html").read_text(encoding="utf-8")
     for r in rows.values():
-        if r["agrees"] is False:
-            assert r["reason"] and r["link"], r["key"]
-            target = (out / r["link"].partition("#")[0]).resolve()
-            assert target.is_file(), r["link"]
+        assert r["verdict"] in ("agrees", "differs", "inconclusive", "n/a"), r["key"]
+        if r["verdict"] in ("differs", "inconclusive"):
+            assert r["reason"] and r["docs"] and r["link"], r["key"]
+            assert (DOCS / r["link"].partition("#")[0]).is_file(), r["link"]
+    assert "../docs/" not in page and "docs/findings.md" not in page
+    assert "<th>verdict</th>" in page and "This part took" in page
 
 
 def test_the_run_folder_holds_the_report_and_its_provenance(quick):

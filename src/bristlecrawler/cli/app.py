@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib
+import os
 import signal
 import sys
 import warnings
@@ -87,6 +88,15 @@ _ABORT = _click_exceptions("Abort")
 _EXIT = _click_exceptions("Exit")
 
 
+def quiet_xla() -> None:
+    """Keep XLA's C++ log off stderr: on a busy machine it prints "Very slow compile? If
+    you want to file a bug..." alarms that look like errors but only mean a long compile,
+    which the commands announce themselves. XLA reads the level when jaxlib loads (so this
+    runs before any command imports JAX) and Dask's worker processes inherit it. Failures
+    still reach the user as Python exceptions; ``TF_CPP_MIN_LOG_LEVEL=0`` shows the log."""
+    os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
+
+
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI; bad input gives one ``error:`` line and exit code 2, no traceback.
 
@@ -94,6 +104,7 @@ def main(argv: list[str] | None = None) -> None:
     failure the error line is all the user sees; after a success each distinct warning is
     one ``warning:`` line. Ctrl-C prints one line saying what was kept, exit code 130.
     """
+    quiet_xla()
     with _held_warnings() as held, _sigint_as_interrupted():
         try:
             result = app(args=argv, standalone_mode=False, prog_name="bristlecrawler")

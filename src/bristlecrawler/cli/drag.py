@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun
+from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
 
 
 def drag_cmd(
@@ -38,7 +38,7 @@ def drag_cmd(
     out: OutFolder = None,
     replace: ReplaceRun = False,
     as_json: JsonSummary = False,
-    progress: Annotated[bool | None, typer.Option("--progress/--no-progress")] = None,
+    progress: ShowProgress = None,
 ) -> None:
     """Drag one bristle of a scenario over its substrate: k, F_p, F_n of the reduced model.
 

@@ -20,3 +20,12 @@ ReplaceRun = Annotated[
 
 #: ``--json``: a JSON summary on stdout.
 JsonSummary = Annotated[bool, typer.Option("--json", help="print a JSON summary on stdout")]
+
+#: ``--progress/--no-progress``: progress on stderr.
+ShowProgress = Annotated[
+    bool | None,
+    typer.Option(
+        "--progress/--no-progress",
+        help="progress on stderr [default: bars on a terminal, else one line per stage]",
+    ),
+]

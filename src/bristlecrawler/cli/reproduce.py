@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from bristlecrawler.cli.options import OutFolder
+from bristlecrawler.cli.options import OutFolder, ShowProgress
 
 
 def reproduce_cmd(
@@ -36,10 +36,7 @@ def reproduce_cmd(
             "left_mm, right_mm) [default: the toolkit's synthetic recording]",
         ),
     ] = None,
-    progress: Annotated[
-        bool | None,
-        typer.Option("--progress/--no-progress", help="progress bars [default: on a terminal]"),
-    ] = None,
+    progress: ShowProgress = None,
 ) -> int:
     """Reproduce the paper: experiments, the FE model at alpha = pi/4 and 0, the reduced
     model and its calibration, a drag test, a design study; then the table paper versus
@@ -81,13 +78,12 @@ def _print_table(run) -> None:
     from rich.table import Table
 
     table = Table(title="paper versus bristlecrawler")
-    for col in ("quantity", "paper", "bristlecrawler", "difference", ""):
-        table.add_column(col, justify="left" if col in ("quantity", "") else "right")
+    for col in ("quantity", "paper", "bristlecrawler", "difference", "verdict"):
+        table.add_column(col, justify="left" if col in ("quantity", "verdict") else "right")
     for r in run.rows:
         ours = r.ours_text or ("" if r.ours is None else f"{r.ours:.3f}")
         diff = "" if r.difference is None else f"{r.difference:+.3f}"
-        verdict = {True: "agrees", False: "differs", None: "n/a"}[r.agrees]
-        table.add_row(f"{r.quantity} ({r.unit})", r.paper_text, ours, diff, verdict)
+        table.add_row(f"{r.quantity} ({r.unit})", r.paper_text, ours, diff, r.verdict)
     console = Console()
     console.print(table)
     console.print(f"report: {run.out_dir / 'report.html'}")

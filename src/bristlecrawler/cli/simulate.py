@@ -9,7 +9,7 @@ from typing import Annotated
 
 import typer
 
-from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun
+from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
 
 
 def simulate_cmd(
@@ -50,10 +50,7 @@ def simulate_cmd(
         bool, typer.Option("--no-figures", help="skip figures and animation")
     ] = False,
     no_vtk: Annotated[bool, typer.Option("--no-vtk", help="skip the ParaView series")] = False,
-    progress: Annotated[
-        bool | None,
-        typer.Option("--progress/--no-progress", help="progress bar [default: on a terminal]"),
-    ] = None,
+    progress: ShowProgress = None,
 ) -> None:
     """Run a finite-element crawler scenario: gravity step, then the prescribed stroke.
 

@@ -57,16 +57,18 @@ def sweep_cmd(
         bool | None,
         typer.Option(
             "--progress/--no-progress",
-            help="progress bar [default: on a terminal; else one line per finished design]",
+            help="progress bar [default: a bar on a terminal, else one line per finished design]",
         ),
     ] = None,
-) -> None:
+) -> int:
     """Run a design study: every design of the study file's axes, one Dask task each
     (chunks of designs for the reduced model), each result written the moment it ends.
 
     Writes study.json, meta.json, parts/ (one file per finished task), study.zarr (every
     output on the design axes), designs.csv and figures/ in the study folder. Killed, the
-    same command with --resume completes it.
+    same command with --resume completes it. Exit code 1 if a design failed or was lost
+    (the last lines list them with their reasons; the others' results are written), 2 on
+    bad input (nothing written).
     """
     from bristlecrawler.studies.runner import SweepOptions, run_sweep
 
@@ -84,8 +86,30 @@ def sweep_cmd(
     summary = run_sweep(study, options)
     if as_json:
         typer.echo(json.dumps(summary))
-        return
-    _print_summary(summary)
+    else:
+        _print_summary(summary)
+    return _report_failures(summary)
+
+
+def _report_failures(summary: dict) -> int:
+    """List the failed and lost designs on stderr, the count last; the exit code."""
+    from bristlecrawler.studies.runner import LISTED_FAILURES
+
+    bad = summary["failures"]
+    if not bad:
+        return 0
+    for f in bad[:LISTED_FAILURES]:
+        typer.echo(f"{f['label']} {f['status']}: {f['error']}", err=True)
+    if len(bad) > LISTED_FAILURES:
+        more = len(bad) - LISTED_FAILURES
+        typer.echo(f"... and {more} more (study.zarr has every reason)", err=True)
+    typer.echo(
+        f"error: {len(bad)} of {summary['designs_total']} designs not done "
+        f"({summary['designs_failed']} failed, {summary['designs_lost']} lost); the others' "
+        f"results are in {summary['output_dir']}",
+        err=True,
+    )
+    return 1
 
 
 def _print_summary(summary: dict) -> None:

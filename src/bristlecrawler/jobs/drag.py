@@ -10,6 +10,7 @@ resolved scenario and the test), ``meta.json``, ``drag.nc`` (the series, xarray/
 from __future__ import annotations
 
 import dataclasses
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,17 +27,22 @@ class DragRun:
 
 
 def solve_drag(spec, test, progress: bool | None = None):
-    """Run the drag test with a progress bar on stderr (None: when it is a terminal)."""
+    """Run the drag test with progress on stderr (None: bars on a terminal, lines
+    otherwise), its compilation announced with the expected time."""
     from bristlecrawler.crawler.drag import drag_test
+    from bristlecrawler.jobs.estimates import compile_note, record_compile
     from bristlecrawler.viz.progress import sim_progress
 
     t_end = spec.actuation.settle_time + test.duration
-    with sim_progress(t_end, "drag test", progress) as bar:
+    notes = {"compiling": compile_note(spec, "drag")}
+    with sim_progress(t_end, "drag test", progress, notes=notes) as bar:
 
         def show(p):
             bar.update(p.t, stage=p.stage, steps=p.steps, iters=p.iterations)
 
-        return drag_test(spec, test, on_progress=show)
+        r = drag_test(spec, test, on_progress=show)
+    record_compile(spec, r.stats.get("compile_time_s", float("nan")), "drag")
+    return r
 
 
 def run_drag(
@@ -61,11 +67,18 @@ def run_drag(
         r = solve_drag(spec, test, progress)
         return DragRun(r, r.summary(), None)
 
+    from bristlecrawler.io.costs import record
     from bristlecrawler.io.netcdf import write_netcdf
     from bristlecrawler.io.runs import claim_run_dir
+    from bristlecrawler.jobs.estimates import announce, expected, run_seconds, scenario_key
 
+    key = scenario_key("drag", {"scenario": sc.model_dump(mode="json"), "test": repr(test)})
     with claim_run_dir(out, f"drag-{sc.name}", replace=replace, command=command) as run:
         _started(on_start)
+        if progress is not False:
+            first = "no earlier drag test of this scenario here to estimate its time from"
+            announce("drag test", f"results go to {run.target}; {expected('drag', key, first)}")
+        t0 = time.perf_counter()
         r = solve_drag(spec, test, progress)
         config = {"scenario": sc.model_dump(mode="json"), "drag": dataclasses.asdict(test)}
         run.write_metadata(config, command)
@@ -85,6 +98,7 @@ def run_drag(
             save_figure(fig, run.path / "texture.png")
         summary = r.summary() | {"output_dir": str(run.target)}
         run.write_json("summary.json", summary)
+        record("drag", key, run_seconds(time.perf_counter() - t0, r.stats))
     return DragRun(r, summary, run.target)
 
 

@@ -12,6 +12,7 @@ revision, command), ``crawler.nc`` (time series and frames, xarray/NetCDF),
 from __future__ import annotations
 
 import dataclasses
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -101,18 +102,24 @@ def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:
 
 
 def solve(spec, progress: bool | None = None) -> CrawlerHistory:
-    """Build and run ``spec`` with a progress bar on stderr (None: when it is a terminal)."""
+    """Build and run ``spec`` with progress on stderr (None: bars on a terminal, lines
+    otherwise); the compilation is announced with its expected time, and its measured
+    time kept for the next estimate."""
     from bristlecrawler.crawler import build, run
+    from bristlecrawler.jobs.estimates import compile_note, record_compile
     from bristlecrawler.viz.progress import sim_progress
 
     crawler = build(spec)
     t_end = spec.actuation.settle_time + spec.actuation.stroke_duration(spec.segments)
-    with sim_progress(t_end, "crawler", progress) as bar:
+    notes = {"compiling": compile_note(spec)}
+    with sim_progress(t_end, "crawler", progress, notes=notes) as bar:
 
         def show(p):
             bar.update(p.t, stage=p.stage, steps=p.steps, iters=p.iterations)
 
-        return run(crawler, on_progress=show)
+        h = run(crawler, on_progress=show)
+    record_compile(spec, h.stats.get("compile_time_s", float("nan")))
+    return h
 
 
 def run_simulation(
@@ -139,10 +146,17 @@ def run_simulation(
         h = solve(spec, progress)
         return SimulationRun(h, summarize(h, sc), None)
 
+    from bristlecrawler.io.costs import record
     from bristlecrawler.io.runs import claim_run_dir
+    from bristlecrawler.jobs.estimates import announce, expected, run_seconds, scenario_key
 
+    key = scenario_key("simulate", sc.model_dump(mode="json"))
     with claim_run_dir(out, f"simulate-{sc.name}", replace=replace, command=command) as run:
         _started(on_start)
+        if progress is not False:
+            first = "no earlier run of this scenario here to estimate its time from"
+            announce("crawler", f"results go to {run.target}; {expected('simulate', key, first)}")
+        t0 = time.perf_counter()
         h = solve(spec, progress)
         summary = summarize(h, sc) | {"output_dir": str(run.target)}
         if progress is not False:  # drawing the figures and the animation takes a while
@@ -151,6 +165,7 @@ def run_simulation(
             print(f"crawler: writing results to {run.target}", file=sys.stderr, flush=True)
         _write_results(run, h, sc, command)
         run.write_json("summary.json", summary)
+        record("simulate", key, run_seconds(time.perf_counter() - t0, h.stats))
     return SimulationRun(h, summary, run.target, tuple(run.notes))
 
 

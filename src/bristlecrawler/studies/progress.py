@@ -1,23 +1,54 @@
 """Progress of a sweep on stderr: a bar with designs done, failed, running and an ETA on a
 terminal; without one (a batch job's log), one line per finished design (per finished
-task for chunks of reduced designs)."""
+task for chunks of reduced designs).
+
+The ETA comes from the finished designs' own measured wall times (the median, so that the
+first design of each worker, which compiles, does not dominate), spread over the workers.
+"""
 
 from __future__ import annotations
 
+import statistics
 import sys
 import time
 
 
-class SweepProgress:
-    """``finished(text, done, failed)`` after each task, ``running(n)`` between them."""
+def eta_seconds(left: int, design_seconds: list[float], workers: int) -> float | None:
+    """Seconds until ``left`` designs are done on ``workers`` workers at the median of the
+    measured ``design_seconds``; None before any design was measured."""
+    measured = [s for s in design_seconds if s == s and s >= 0]
+    if left <= 0:
+        return 0.0
+    if not measured:
+        return None
+    per_design = statistics.median(measured)
+    rounds = -(-left // max(workers, 1))  # designs run ``workers`` at a time
+    return rounds * per_design
 
-    def __init__(self, total: int, done: int, failed: int, enabled: bool | None = None):
+
+def format_eta(seconds: float | None) -> str:
+    if seconds is None:
+        return "ETA: after the first design"
+    if seconds >= 86400:
+        return "ETA: more than a day"
+    return "ETA " + time.strftime("%H:%M:%S", time.gmtime(seconds))
+
+
+class SweepProgress:
+    """``finished(text, n, failed, seconds)`` after each task (``seconds``: its designs'
+    measured wall times), ``running(n)`` between them."""
+
+    def __init__(
+        self, total: int, done: int, failed: int, enabled: bool | None = None, workers: int = 1
+    ):
+        from bristlecrawler.viz.progress import progress_mode
+
         self.total, self.done, self.failed, self.busy = total, done, failed, 0
-        self.start_done = done
-        self.t0 = time.perf_counter()
-        tty = sys.stderr.isatty() if enabled is None else enabled
+        self.workers = workers
+        self.seconds: list[float] = []
+        self.mode = progress_mode(enabled)
         self._bar = None
-        if tty:
+        if self.mode == "bars":
             from rich.console import Console
             from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -33,18 +64,12 @@ class SweepProgress:
             self._refresh()
 
     def eta(self) -> str:
-        new = self.done - self.start_done
-        if new <= 0 or self.done >= self.total:
-            return "-"
-        rate = new / (time.perf_counter() - self.t0)
-        seconds = (self.total - self.done) / rate
-        return time.strftime("%H:%M:%S", time.gmtime(seconds)) if seconds < 86400 else ">1 d"
+        return format_eta(eta_seconds(self.total - self.done, self.seconds, self.workers))
 
     def _refresh(self) -> None:
-        text = (
-            f"{self.done}/{self.total} done, {self.failed} failed, {self.busy} running, "
-            f"ETA {self.eta()}"
-        )
+        text = f"{self.done}/{self.total} finished, {self.failed} failed, {self.busy} running"
+        if self.done < self.total:
+            text += f", {self.eta()}"
         self._bar.update(self._task, completed=self.done, text=text)
 
     def running(self, n: int) -> None:
@@ -52,15 +77,19 @@ class SweepProgress:
         if self._bar is not None:
             self._refresh()
 
-    def finished(self, text: str, n: int, failed: int) -> None:
+    def finished(self, text: str, n: int, failed: int, seconds: list[float] = ()) -> None:
         self.done += n
         self.failed += failed
+        self.seconds += list(seconds)
         if self.done >= self.total:
             self.busy = 0
         if self._bar is not None:
             self._refresh()
             return
-        print(f"[{self.done}/{self.total}] {text} (ETA {self.eta()})", file=sys.stderr, flush=True)
+        if self.mode == "off":
+            return
+        left = "" if self.done >= self.total else f", {self.eta()}"
+        print(f"[{self.done}/{self.total}] {text}{left}", file=sys.stderr, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:

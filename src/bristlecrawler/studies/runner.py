@@ -240,6 +240,8 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
     try:
         store.start_folder(out, p.resolved, meta)
         if ntasks:
+            if opt.progress is not False:
+                _announce(p, out, left, _workers(client))
             _run(p, out, todo, left, client, opt.progress)
     finally:
         execute.disconnect(client, cluster)
@@ -250,7 +252,7 @@ def _run(p: Plan, out: Path, todo, left: int, client, progress) -> None:
     from bristlecrawler.studies.progress import SweepProgress
 
     done_before = p.designs.n - left
-    bar = SweepProgress(p.designs.n, done_before, 0, enabled=progress)
+    bar = SweepProgress(p.designs.n, done_before, 0, enabled=progress, workers=_workers(client))
 
     def on_done(task: execute.Task, result) -> None:
         store.write_part(out, task.number, task.index, result)
@@ -263,13 +265,67 @@ def _run(p: Plan, out: Path, todo, left: int, client, progress) -> None:
             else:
                 text += f" in {result['wall_time_s'][0]:.1f} s"
         else:
-            text = f"designs {task.index[0]}-{task.index[-1]}: {failed} not done"
-        bar.finished(text, task.index.size, failed)
+            n = task.index.size
+            text = f"designs {task.index[0]}-{task.index[-1]}: {n - failed} done, {failed} failed"
+        bar.finished(text, task.index.size, failed, list(result["wall_time_s"]))
 
     try:
         execute.run_tasks(client, todo, f"sweep-{p.resolved['fingerprint']}", on_done, bar.running)
     finally:
         bar.close()
+    if bar.seconds:
+        from bristlecrawler.io.costs import record
+
+        measured = [s for s in bar.seconds if np.isfinite(s)]
+        if measured:
+            record("sweep-design", p.resolved["fingerprint"], float(np.median(measured)))
+
+
+def _announce(p: Plan, out: Path, n: int, workers: int) -> None:
+    """Where the study goes and how long it should take, from the median design time of
+    its last run here (the designs of a study cost alike; the first of each worker also
+    compiles)."""
+    from bristlecrawler.io.costs import duration, recorded
+    from bristlecrawler.jobs.estimates import announce
+
+    before = recorded("sweep-design", p.resolved["fingerprint"])
+    if before is None:
+        expect = "the ETA follows from the first finished designs"
+    else:
+        seconds = -(-n // workers) * before.seconds
+        expect = f"expected {duration(seconds)} (its last run here, {before.utc[:10]})"
+    on = f"{workers} worker{'s' * (workers > 1)}"
+    announce("sweep", f"{n} designs on {on} into {out}; {expect}")
+
+
+def _workers(client) -> int:
+    """Designs the cluster runs at once (its workers' threads)."""
+    try:
+        return max(sum(client.nthreads().values()), 1)
+    except Exception:  # a scheduler that went away: the ETA assumes one
+        return 1
+
+
+#: Failed or lost designs listed one by one at the end of a sweep; beyond, a count.
+LISTED_FAILURES = 20
+
+
+def failures(ds, designs: Designs) -> list[dict[str, Any]]:
+    """The designs that failed or were lost, in order: their number, label, status and
+    one-line reason."""
+    status = np.asarray(ds.status.values).ravel()
+    error = np.asarray(ds.error.values).ravel()
+    out = []
+    for i in np.flatnonzero((status == DesignStatus.FAILED) | (status == DesignStatus.LOST)):
+        out.append(
+            {
+                "design": int(i),
+                "label": designs.label(int(i)),
+                "status": DesignStatus(int(status[i])).name.lower(),
+                "error": str(error[i]),
+            }
+        )
+    return out
 
 
 def _finish(p: Plan, out: Path, meta, opt: SweepOptions, ran: int, wall: float) -> dict:
@@ -302,6 +358,7 @@ def _finish(p: Plan, out: Path, meta, opt: SweepOptions, ran: int, wall: float) 
         "designs_failed": int(np.sum(status == DesignStatus.FAILED)),
         "designs_lost": int(np.sum(status == DesignStatus.LOST)),
         "designs_pending": int(np.sum(status == DesignStatus.PENDING)),
+        "failures": failures(ds, p.designs),
         "tasks_run": ran,
         "store": str(path),
         "output_dir": str(out),

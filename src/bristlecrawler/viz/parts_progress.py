@@ -23,10 +23,18 @@ class _Null:
     def finish(self, name: str, ok: bool, wall_s: float) -> None:
         """Do nothing."""
 
+    def note(self, text: str) -> None:
+        """Do nothing."""
+
+
+#: Share of the expected time done before the lines extrapolate an ETA from nominal costs
+#: (a first part of a second says nothing about the FE parts after it).
+ETA_AFTER = 0.25
+
 
 class _Lines(_Null):
-    def __init__(self, label: str, costs: dict[str, float], stream) -> None:
-        self.label, self.costs, self.stream = label, costs, stream
+    def __init__(self, label: str, costs: dict[str, float], stream, measured: bool) -> None:
+        self.label, self.costs, self.stream, self.measured = label, costs, stream, measured
         self.wall0 = time.perf_counter()
         self.done = 0.0
 
@@ -37,9 +45,14 @@ class _Lines(_Null):
         elapsed = time.perf_counter() - self.wall0
         total = sum(self.costs.values())
         eta = ""
-        if self.done > 0:
+        if self.measured:
+            eta = f", about {total - self.done:.0f} s left by earlier runs here"
+        elif self.done >= ETA_AFTER * total:
             eta = f", about {elapsed * (total - self.done) / self.done:.0f} s left"
         self._write(f"{name} ... ({elapsed:.0f} s elapsed{eta})")
+
+    def note(self, text: str) -> None:
+        self._write(text)
 
     def finish(self, name: str, ok: bool, wall_s: float) -> None:
         self.done += self.costs.get(name, 0.0)
@@ -48,21 +61,25 @@ class _Lines(_Null):
 
 @contextlib.contextmanager
 def parts_progress(
-    costs: dict[str, float], label: str = "reproduce", enabled: bool | None = None
+    costs: dict[str, float],
+    label: str = "reproduce",
+    enabled: bool | None = None,
+    measured: bool = False,
 ) -> Iterator:
     """Yield an object with ``start(name)``, ``update(fraction)`` (of the running part,
     0 to 1) and ``finish(name, ok, wall_s)``. ``costs``: each part's expected share of
-    the time, in order. ``enabled``: True bars, False nothing, None bars on a terminal
-    and lines elsewhere."""
-    if enabled is None and not sys.stderr.isatty():
-        yield _Lines(label, costs, sys.stderr)
+    the time, in order; ``measured``: they are seconds measured in earlier runs.
+    ``enabled``: True bars, False nothing, None bars on a terminal and lines elsewhere."""
+    from bristlecrawler.viz.progress import progress_mode, stderr_bars
+
+    mode = progress_mode(enabled)
+    if mode == "lines":
+        yield _Lines(label, costs, sys.stderr, measured)
         return
-    if not enabled:
+    if mode == "off":
         yield _Null()
         return
     from rich.progress import BarColumn, TextColumn
-
-    from bristlecrawler.viz.progress import stderr_bars
 
     progress = stderr_bars(
         TextColumn("[bold]{task.description:<12}"),
@@ -87,6 +104,9 @@ def parts_progress(
             f = min(max(fraction, 0.0), 1.0)
             progress.update(tasks[self.current], completed=f)
             progress.update(total, completed=self.base + f * costs[self.current])
+
+        def note(self, text: str) -> None:
+            progress.console.print(f"{label}: {text}", markup=False, highlight=False)
 
         def finish(self, name: str, ok: bool, wall_s: float) -> None:
             self.base += costs[name]

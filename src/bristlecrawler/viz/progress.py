@@ -3,7 +3,9 @@
 On a terminal: a bar with the simulated time, wall time and ETA. Elsewhere (a pipe, a log
 file, a batch job): one line per stage (compiling, gravity step, modal analysis) and one
 each time the run passes a mark of simulated time (every cycle when the caller gives the
-cycle period, else every tenth of the run). Disabled: silent.
+cycle period, else every tenth of the run). Disabled: silent. A stage can come with a note
+(what it is and how long it is expected to take), printed as a line of its own when the
+stage starts, and its measured time when it ends, in either form.
 """
 
 from __future__ import annotations
@@ -12,7 +14,40 @@ import contextlib
 import math
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
+from typing import Literal
+
+Mode = Literal["bars", "lines", "off"]
+
+
+def progress_mode(enabled: bool | None, stream=None) -> Mode:
+    """How to show progress: ``enabled`` True bars, False nothing, None (the default of
+    every command) bars when ``stream`` (stderr) is a terminal and lines otherwise."""
+    if enabled is None:
+        stream = sys.stderr if stream is None else stream
+        isatty = getattr(stream, "isatty", None)
+        return "bars" if isatty is not None and isatty() else "lines"
+    return "bars" if enabled else "off"
+
+
+class StageNotes:
+    """Prints ``notes[stage]`` when a stage that has a note starts, and the stage's
+    measured time when it ends (``write(text)`` prints one line)."""
+
+    def __init__(self, notes: Mapping[str, str] | None, write) -> None:
+        self.notes, self.write = dict(notes or {}), write
+        self.current: str | None = None
+        self.t0 = 0.0
+
+    def enter(self, stage: str) -> None:
+        if stage == self.current:
+            return
+        if self.current in self.notes:
+            took = time.perf_counter() - self.t0
+            self.write(f"{self.current}: done in {took:.0f} s")
+        self.current, self.t0 = stage, time.perf_counter()
+        if stage in self.notes:
+            self.write(self.notes[stage])
 
 
 def stderr_bars(*columns, tail=()):
@@ -33,12 +68,15 @@ class _Null:
 class _Lines:
     """One line per stage and per mark of simulated time, for logs."""
 
-    def __init__(self, t_end: float, label: str, period: float | None, start: float, stream):
+    def __init__(
+        self, t_end: float, label: str, period: float | None, start: float, stream, notes=None
+    ):
         self.t_end, self.label, self.stream = t_end, label, stream
         self.period, self.start = period, start
         self.wall0 = time.perf_counter()
         self.stage: str | None = None
         self.mark = 0  # marks passed so far
+        self.notes = StageNotes(notes, lambda text: print(text, file=stream, flush=True))
 
     def _step(self) -> float:
         return self.period if self.period else self.t_end / 10.0
@@ -50,6 +88,7 @@ class _Lines:
     def update(self, t_sim: float, stage: str | None = None, **info) -> None:
         if stage is not None and stage != self.stage:
             self.stage = stage
+            self.notes.enter(stage)
             self._write(f"{stage or 'stepping'} at t = {t_sim:.3g} s")
         origin = self.start if self.period else 0.0
         step = self._step()
@@ -71,18 +110,20 @@ def sim_progress(
     enabled: bool | None = None,
     period: float | None = None,
     start: float = 0.0,
+    notes: Mapping[str, str] | None = None,
 ) -> Iterator:
     """Yield an object with ``update(t_sim, stage=None, **info)``: ``t_sim`` s of simulated
     time, ``stage`` what the run is doing (kept until the next stage), ``info`` counters.
 
-    ``enabled``: True a bar, False nothing, None a bar on a terminal and lines elsewhere.
-    ``period`` (s) and ``start`` (s, when the first cycle starts): report each cycle's end
-    in the lines; without them every tenth of ``t_end`` is reported.
+    ``enabled``: see :func:`progress_mode`. ``period`` (s) and ``start`` (s, when the first
+    cycle starts): report each cycle's end in the lines; without them every tenth of
+    ``t_end`` is reported. ``notes``: a line to print when a stage starts, by stage name.
     """
-    if enabled is None and not sys.stderr.isatty():
-        yield _Lines(t_end, label, period, start, sys.stderr)
+    mode = progress_mode(enabled)
+    if mode == "lines":
+        yield _Lines(t_end, label, period, start, sys.stderr, notes)
         return
-    if not enabled:
+    if mode == "off":
         yield _Null()
         return
     from rich.progress import BarColumn, TextColumn
@@ -95,12 +136,17 @@ def sim_progress(
     )
     task = progress.add_task(label, total=t_end, info="")
 
+    stage_notes = StageNotes(
+        notes, lambda text: progress.console.print(text, markup=False, highlight=False)
+    )
+
     class _Bar:
         stage = ""
 
         def update(self, t_sim: float, stage: str | None = None, **info) -> None:
             if stage is not None:
                 self.stage = stage
+                stage_notes.enter(stage)
             text = " ".join([self.stage, *(f"{k}={v}" for k, v in info.items())])
             progress.update(task, completed=min(t_sim, t_end), info=text.strip())
 

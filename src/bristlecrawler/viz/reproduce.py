@@ -40,13 +40,31 @@ def plot_vertical(phases, histories, inclined=None):
     return fig
 
 
-def plot_study(values, outputs, axis_label: str, title: str):
+def plot_study(values, outputs, axis_label: str, title: str, failed=None):
     """Outputs of a one-axis design study: ``values`` on x, one panel per entry of
-    ``outputs`` (label -> array, NaN where a design failed)."""
+    ``outputs`` (label -> array, NaN where a design failed); ``failed`` (booleans, one
+    per value) marks the designs that failed with a red cross at the foot of each panel."""
+    import numpy as np
+
     plt = _pyplot()
     fig, axes = plt.subplots(1, len(outputs), figsize=(4.2 * len(outputs), 3.6), squeeze=False)
+    bad = np.zeros(len(values), bool) if failed is None else np.asarray(failed, bool)
     for ax, (label, y) in zip(axes[0], outputs.items(), strict=True):
         ax.plot(values, y, "o-", color="k")
+        if bad.any():
+            x = np.asarray(values)[bad]
+            ax.plot(
+                x,
+                np.full(x.size, 0.03),
+                "x",
+                color="tab:red",
+                ms=7,
+                mew=2,
+                transform=ax.get_xaxis_transform(),
+                clip_on=False,
+                label="failed (no value)",
+            )
+            ax.legend(fontsize=7)
         ax.set_xlabel(axis_label)
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)

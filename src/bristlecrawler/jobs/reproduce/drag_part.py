@@ -17,6 +17,7 @@ from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResul
 
 def run_drag(ctx: Context) -> PartResult:
     from bristlecrawler.crawler.drag import DragTest, drag_test
+    from bristlecrawler.jobs.estimates import compile_announcer
     from bristlecrawler.jobs.reproduce.fe_parts import scenario
     from bristlecrawler.scenario.convert import to_spec
     from bristlecrawler.viz.drag import plot_drag
@@ -25,11 +26,15 @@ def run_drag(ctx: Context) -> PartResult:
     spec = to_spec(scenario("paper", ctx, []))
     test = DragTest(direction="cycle", distance=ctx.settings.drag_distance)
 
+    compiling = compile_announcer(spec, ctx.note, "drag")
+
     def show(p):
+        compiling.seen(p.stage)
         if p.t_end > 0:
             ctx.progress(min(max(p.t / p.t_end, 0.0), 1.0))
 
     r = drag_test(spec, test, on_progress=show)
+    compiling.done(r.stats)
     s = r.summary()
     fig = Figure(
         "drag.png",

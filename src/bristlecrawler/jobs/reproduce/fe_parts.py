@@ -29,15 +29,21 @@ def solve(sc, ctx: Context, share: tuple[float, float] = (0.0, 1.0)):
     """Run scenario ``sc``; progress goes to the part's bar as the ``share`` (from, to) of
     the part this run covers."""
     from bristlecrawler.crawler import build, run
+    from bristlecrawler.jobs.estimates import compile_announcer
     from bristlecrawler.scenario.convert import to_spec
 
     lo, hi = share
+    spec = to_spec(sc)
+    compiling = compile_announcer(spec, ctx.note)
 
     def show(p):
+        compiling.seen(p.stage)
         if p.t_end > 0:
             ctx.progress(lo + (hi - lo) * min(max(p.t / p.t_end, 0.0), 1.0))
 
-    return run(build(to_spec(sc)), on_progress=show)
+    h = run(build(spec), on_progress=show)
+    compiling.done(h.stats)
+    return h
 
 
 def run_paper(ctx: Context) -> PartResult:

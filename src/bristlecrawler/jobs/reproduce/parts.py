@@ -40,7 +40,7 @@ class Settings:
     quick: bool = False
     fe_cycles: int = 5
     elements: int = 20
-    vertical_phases: int = 4
+    vertical_phases: int = 8
     drag_distance: float = 10.0
     study_fe: bool = True
     workers: int = 2
@@ -100,14 +100,16 @@ class PartResult:
 @dataclass
 class Context:
     """What the parts share: the settings, the folder they write into, the inputs read at
-    the edge (the recording), the results so far and the progress callback
-    (``progress(fraction)`` with the running part's fraction done, 0 to 1)."""
+    the edge (the recording), the results so far, the progress callback
+    (``progress(fraction)`` with the running part's fraction done, 0 to 1) and ``note``,
+    a line for the user (what a long step is doing, how long it should take)."""
 
     settings: Settings
     folder: Path
     inputs: dict[str, Any] = field(default_factory=dict)
     results: dict[str, PartResult] = field(default_factory=dict)
     progress: Callable[[float], None] = lambda fraction: None
+    note: Callable[[str], None] = lambda text: None
 
     def value(self, part: str, key: str) -> Any:
         """A number another part found, or None (that part failed or did not run)."""

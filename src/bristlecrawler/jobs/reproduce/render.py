@@ -38,26 +38,36 @@ def _cells(r: Row) -> list[str]:
     ours = r.ours_text if r.ours_text and r.ours is None else _fmt(r.ours, r.unit)
     if r.ours is not None and r.ours_text:
         ours = r.ours_text
-    verdict = {True: "agrees", False: "differs", None: "n/a"}[r.agrees]
     return [
         f"{r.quantity} ({r.unit})",
         r.paper_text,
         ours,
         _fmt(r.difference, r.unit),
-        verdict,
+        r.verdict,
         r.source,
     ]
 
 
-HEAD = ["quantity", "paper", "bristlecrawler", "difference", "", "ours from"]
+HEAD = ["quantity", "paper", "bristlecrawler", "difference", "verdict", "ours from"]
+
+
+def _why(r: Row) -> str:
+    """The row's reason, and the documentation section that explains it (by name: the
+    report is read away from the docs)."""
+    return r.reason + (f" (docs: {r.docs})" if r.docs else "")
+
+
+def took(wall_s: float) -> str:
+    """``This part took 655 s (11 min).``"""
+    minutes = f" ({wall_s / 60:.0f} min)" if wall_s >= 90 else ""
+    return f"This part took {wall_s:.0f} s{minutes}."
 
 
 def markdown(rep: Report) -> str:
     out = [f"# {rep.title}", "", *rep.header, "", "## Paper versus bristlecrawler", ""]
     out += ["| " + " | ".join([*HEAD, "why"]) + " |", "|" + "---|" * (len(HEAD) + 1)]
     for r in rep.rows:
-        why = r.reason + (f" ([docs]({r.link}))" if r.link else "")
-        out.append("| " + " | ".join(c.replace("|", "\\|") for c in [*_cells(r), why]) + " |")
+        out.append("| " + " | ".join(c.replace("|", "\\|") for c in [*_cells(r), _why(r)]) + " |")
     for part, res in rep.sections:
         out += ["", f"## {part.title}", ""]
         if not res.ok:
@@ -65,7 +75,7 @@ def markdown(rep: Report) -> str:
         out += list(res.lines)
         for fig in res.figures:
             out += ["", f"![{fig.caption}]({fig.path})", "", f"*{fig.caption}*"]
-        out += ["", f"<small>{res.wall_s:.0f} s</small>"]
+        out += ["", f"<small>{took(res.wall_s)}</small>"]
     return "\n".join(out) + "\n"
 
 
@@ -136,6 +146,7 @@ table { border-collapse: collapse; font-size: 0.9em; }
 th, td { border: 1px solid #ccc; padding: 0.3em 0.5em; vertical-align: top; }
 th { background: #eef5f4; }
 td.agrees { color: #1a7f37; } td.differs { color: #b35900; font-weight: bold; }
+td.inconclusive { color: #6a4fb3; font-weight: bold; }
 figure { margin: 1em 0; } img { max-width: min(100%, 860px); border: 1px solid #eee; }
 figcaption { font-size: 0.85em; color: #555; }
 .failed { background: #fde8e8; border-left: 4px solid #c00; padding: 0.5em 1em; }
@@ -161,9 +172,7 @@ def to_html(rep: Report, folder: Path) -> str:
         verdict = cells[4]
         tds = [f"<td>{html.escape(c)}</td>" for c in cells]
         tds[4] = f'<td class="{verdict}">{html.escape(verdict)}</td>'
-        why = _inline(r.reason)
-        if r.link:
-            why += f' (<a href="{html.escape(r.link)}">docs</a>)'
+        why = _inline(_why(r))
         out.append(f'<tr id="row-{r.key}">' + "".join(tds) + f"<td>{why}</td></tr>")
     out.append("</tbody></table>")
     for part, res in rep.sections:
@@ -174,6 +183,6 @@ def to_html(rep: Report, folder: Path) -> str:
             )
         out.append(_blocks(res.lines))
         out += [_figure(folder, f.path, f.caption) for f in res.figures]
-        out.append(f"<p><small>{res.wall_s:.0f} s</small></p>")
+        out.append(f"<p><small>{html.escape(took(res.wall_s))}</small></p>")
     out.append("</body></html>")
     return "\n".join(out) + "\n"

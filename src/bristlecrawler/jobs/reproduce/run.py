@@ -13,11 +13,11 @@
 from __future__ import annotations
 
 import dataclasses
-import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from bristlecrawler.jobs.estimates import announce
 from bristlecrawler.jobs.reproduce.drag_part import DRAG
 from bristlecrawler.jobs.reproduce.experiment_part import EXPERIMENT, load_recording
 from bristlecrawler.jobs.reproduce.fe_parts import FE_PAPER, FE_VERTICAL
@@ -74,21 +74,6 @@ class ReproduceRun:
         }
 
 
-def docs_href(folder: Path):
-    """``page -> link`` to the documentation from ``folder``: a relative path to the
-    checkout's docs/ when the package runs from one, else None (no link)."""
-    docs = Path(__file__).resolve().parents[4] / "docs"
-
-    def href(page: str) -> str | None:
-        name, _, anchor = page.partition("#")
-        if not (docs / name).is_file():
-            return None
-        rel = os.path.relpath(docs / name, folder.resolve())
-        return rel.replace(os.sep, "/") + (f"#{anchor}" if anchor else "")
-
-    return href
-
-
 def run_reproduce(opts: ReproduceOptions) -> ReproduceRun:
     """Run every part and write the report (see the module)."""
     from bristlecrawler.fe import enable_compilation_cache
@@ -105,9 +90,12 @@ def run_reproduce(opts: ReproduceOptions) -> ReproduceRun:
             "parts": [p.name for p in opts.parts],
         }
         info = run.write_metadata(config, opts.command)
+        costs, measured, expect = _costs(opts.parts, settings)
+        if opts.progress is not False:
+            announce("reproduce", f"results go to {run.target}; {expect}")
         ctx = Context(settings, run.path, inputs={"recording": recording})
-        _run_parts(opts, ctx)
-        rows = tuple(build_table(ctx, docs_href(run.target)))
+        _run_parts(opts, ctx, costs, measured)
+        rows = tuple(build_table(ctx))
         header = _header(info, settings, ctx)
         report = Report(TITLE, header, rows, tuple((p, ctx.results[p.name]) for p in opts.parts))
         out = ReproduceRun(rows, dict(ctx.results), run.target, tuple(run.notes))
@@ -115,17 +103,50 @@ def run_reproduce(opts: ReproduceOptions) -> ReproduceRun:
     return out
 
 
-def _run_parts(opts: ReproduceOptions, ctx: Context) -> None:
+#: Measured times, until the parts ran on this machine (the reproduce guide's table).
+FULL_REFERENCE = (
+    "a full run took 42 min (16 min of CPU time) on a busy 2-core machine, with four "
+    "starting places at alpha = 0 instead of eight"
+)
+QUICK_REFERENCE = (
+    "--quick took 264 s on a quiet 2-core machine and 21 min on one shared with three "
+    "other users, with an empty compilation cache"
+)
+
+
+def _cost_key(part: Part, settings: Settings) -> str:
+    return f"{part.name}-{'quick' if settings.quick else 'full'}"
+
+
+def _costs(parts: tuple[Part, ...], settings: Settings) -> tuple[dict[str, float], bool, str]:
+    """Each part's expected share of the time (its seconds measured here when every part
+    was, else its nominal cost), whether they are measured, and the line that says how
+    long the run should take."""
+    from bristlecrawler.io.costs import duration, recorded
+
+    measured = {p.name: recorded("reproduce", _cost_key(p, settings)) for p in parts}
+    if all(m is not None for m in measured.values()):
+        seconds = {n: max(m.seconds, 0.01) for n, m in measured.items()}
+        when = max(m.utc for m in measured.values())[:10]
+        total = duration(sum(seconds.values()))
+        return seconds, True, f"expected {total} (its parts' last runs here, {when})"
+    reference = QUICK_REFERENCE if settings.quick else FULL_REFERENCE
+    return {p.name: p.cost for p in parts}, False, f"not run here yet; {reference}"
+
+
+def _run_parts(opts: ReproduceOptions, ctx: Context, costs: dict[str, float], measured) -> None:
+    from bristlecrawler.io.costs import record
     from bristlecrawler.viz.parts_progress import parts_progress
 
-    costs = {p.name: p.cost for p in opts.parts}
-    with parts_progress(costs, enabled=opts.progress) as bar:
+    with parts_progress(costs, enabled=opts.progress, measured=measured) as bar:
         for part in opts.parts:
             bar.start(part.name)
-            ctx.progress = bar.update
+            ctx.progress, ctx.note = bar.update, bar.note
             result = run_part(part, ctx)
             ctx.results[part.name] = result
             bar.finish(part.name, result.ok, result.wall_s)
+            if result.ok:
+                record("reproduce", _cost_key(part, ctx.settings), result.wall_s)
 
 
 def _header(info, settings: Settings, ctx: Context) -> tuple[str, ...]:
@@ -146,10 +167,22 @@ def _header(info, settings: Settings, ctx: Context) -> tuple[str, ...]:
         f"* version: {mode}; {settings.elements} elements per bristle, "
         f"{settings.fe_cycles} FE cycle(s) at alpha = pi/4, {settings.vertical_phases} "
         f"starting place{'s' * (settings.vertical_phases > 1)} at alpha = 0; "
-        f"{wall:.0f} s in all",
+        f"computed in {wall:.0f} s{f' ({wall / 60:.0f} min)' if wall >= 90 else ''} on "
+        f"{_machine()}",
         f"* parts that failed: {', '.join(failed) if failed else 'none'}",
+        "* verdicts: *agrees* within the row's tolerance, *differs* beyond it, *inconclusive* "
+        "where the data cannot tell (alpha = 0: a 95 % interval of the mean wider than the "
+        "tolerance), *n/a* not compared",
     ]
     return tuple(lines)
+
+
+def _machine() -> str:
+    """The machine the run's time was measured on, as the report states it."""
+    import os
+    import platform
+
+    return f"{os.cpu_count()} cores ({platform.machine()}, {platform.system()})"
 
 
 def _write(run, report: Report, out: ReproduceRun) -> None:

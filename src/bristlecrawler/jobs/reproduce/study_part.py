@@ -95,7 +95,8 @@ def run_study(ctx: Context) -> PartResult:
         "work, 5 cycles (mJ)": red["work_mJ"].values,
     }
     save_figure(
-        plot_study(c, outputs, "F_p/k (mm)", "reduced model: grip"), ctx.folder / figs[0].path
+        plot_study(c, outputs, "F_p/k (mm)", "reduced model: grip", _failed(red)),
+        ctx.folder / figs[0].path,
     )
     adv = red["net_advance_mm"].values
     stopped = c[adv <= 1e-9]
@@ -118,6 +119,14 @@ def run_study(ctx: Context) -> PartResult:
     return PartResult("study", values=values, figures=tuple(figs), lines=tuple(lines))
 
 
+def _failed(ds) -> np.ndarray:
+    """Whether each design of a one-axis study failed or was lost."""
+    from bristlecrawler.studies.evaluate import DesignStatus
+
+    status = ds["status"].values
+    return (status == DesignStatus.FAILED) | (status == DesignStatus.LOST)
+
+
 def _fe_inclination(ctx: Context):
     from bristlecrawler.viz.reduced import save_figure
     from bristlecrawler.viz.reproduce import plot_study
@@ -134,7 +143,9 @@ def _fe_inclination(ctx: Context):
         "work, 1 cycle (mJ)": ds["work_mJ"].values,
     }
     save_figure(
-        plot_study(alpha, outputs, "alpha (degrees)", "FE crawler: inclination"),
+        plot_study(
+            alpha, outputs, "inclination alpha (degrees)", "FE crawler: inclination", _failed(ds)
+        ),
         ctx.folder / fig.path,
     )
     rows = ", ".join(

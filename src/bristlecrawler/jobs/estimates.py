@@ -1,0 +1,115 @@
+"""What a long command says before it starts: where it writes and how long it expects to
+take, from the costs measured on this machine (:mod:`bristlecrawler.io.costs`), and the
+line that announces the FE programs' compilation.
+
+Where nothing was measured here yet, the estimate says so and quotes what was measured on
+the reference machine instead (stated with it), never a guess.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Any
+
+from bristlecrawler.io.costs import digest, duration, record, recorded
+
+#: Compiling the paper crawler's FE programs on an empty cache, measured on an idle
+#: 2-core machine (63-71 s) and on one shared by four users (about 7 min).
+FIRST_COMPILE = (
+    "about 70 s for the paper's crawler on an idle 2-core machine, minutes on a busy one"
+)
+
+
+def _cache_off() -> bool:
+    return os.environ.get("BRISTLECRAWLER_NO_JAX_CACHE", "").strip() not in ("", "0")
+
+
+def compile_key(spec, what: str = "crawler") -> str:
+    """Equal for runs that compile the same programs (``what``: ``crawler`` or ``drag``,
+    the model built from ``spec``) into the same cache."""
+    from bristlecrawler.crawler.structure import structure_key
+
+    cache = os.environ.get("BRISTLECRAWLER_JAX_CACHE", "")
+    return digest([what, structure_key(spec), cache])
+
+
+def compile_note(spec, what: str = "crawler") -> str:
+    """The line that announces the compilation of ``spec``'s FE programs."""
+    if _cache_off():
+        return (
+            "compiling the FE programs for this structure (the compilation cache is off: "
+            f"every run compiles), {FIRST_COMPILE}"
+        )
+    before = recorded("compile", compile_key(spec, what))
+    if before is None:
+        return f"compiling the FE programs for this structure, first time only: {FIRST_COMPILE}"
+    return (
+        "loading the FE programs for this structure from the compilation cache (the "
+        f"last time they were compiled or loaded here took {duration(before.seconds)})"
+    )
+
+
+def record_compile(spec, seconds: float, what: str = "crawler") -> None:
+    record("compile", compile_key(spec, what), seconds)
+    _COMPILED.add(compile_key(spec, what))
+
+
+#: Programs this process compiled already (JAX keeps them: a later run starts at once).
+_COMPILED: set[str] = set()
+
+
+def compile_announcer(spec, say, what: str = "crawler"):
+    """A progress callback's helper for a run inside a longer job: ``seen(stage)`` says
+    :func:`compile_note` with ``say(text)`` when the compilation of programs this process
+    has not compiled yet starts; ``done(history)`` says how long it took and keeps it."""
+
+    class _Announcer:
+        said = False
+
+        def seen(self, stage: str) -> None:
+            if stage == "compiling" and not self.said:
+                self.said = True
+                if compile_key(spec, what) not in _COMPILED:
+                    say(compile_note(spec, what))
+                else:
+                    self.said = None  # compiled in this process: nothing to announce
+
+        def done(self, stats: dict) -> None:
+            seconds = stats.get("compile_time_s", float("nan"))
+            if self.said and seconds == seconds:
+                say(f"compiling: done in {seconds:.0f} s")
+            record_compile(spec, seconds, what)
+
+    return _Announcer()
+
+
+def scenario_key(kind: str, config: dict[str, Any]) -> str:
+    """A run's key: its command and its configuration without the outputs it writes."""
+    relevant = {k: v for k, v in config.items() if k not in ("name", "description", "output")}
+    return digest([kind, relevant])
+
+
+def expected(kind: str, key: str, otherwise: str) -> str:
+    """``expected about 3 min once the FE programs are ready (its last run here, DATE)``,
+    or ``otherwise``: runs are recorded without their compile time, which the compile
+    line states on its own."""
+    before = recorded(kind, key)
+    if before is None:
+        return otherwise
+    when = before.utc[:10]
+    return (
+        f"expected {duration(before.seconds)} once the FE programs are ready "
+        f"(its last run here, {when})"
+    )
+
+
+def run_seconds(wall_s: float, stats: dict) -> float:
+    """A run's wall time without its compilation (unknown compile time: all of it)."""
+    compile_s = stats.get("compile_time_s", float("nan"))
+    return wall_s - compile_s if compile_s == compile_s else wall_s
+
+
+def announce(label: str, text: str) -> None:
+    """One line on stderr, before the work starts."""
+    print(f"{label}: {text}", file=sys.stderr, flush=True)
