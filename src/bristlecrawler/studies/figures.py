@@ -92,18 +92,9 @@ def _mark_failed(ax, ds, key) -> bool:
     bad = _not_done(ds)
     if not bool(bad.any()):
         return False
-    x = ds[key].broadcast_like(bad).values.ravel()[bad.values.ravel()]
-    ax.plot(
-        x,
-        np.full(x.size, 0.03),
-        "x",
-        color="tab:red",
-        ms=7,
-        mew=2,
-        transform=ax.get_xaxis_transform(),
-        clip_on=False,
-        label="failed (no value)",
-    )
+    from bristlecrawler.viz.reproduce import mark_failed
+
+    mark_failed(ax, ds[key].broadcast_like(bad).values.ravel()[bad.values.ravel()])
     return True
 
 

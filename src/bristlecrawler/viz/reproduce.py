@@ -52,18 +52,7 @@ def plot_study(values, outputs, axis_label: str, title: str, failed=None):
     for ax, (label, y) in zip(axes[0], outputs.items(), strict=True):
         ax.plot(values, y, "o-", color="k")
         if bad.any():
-            x = np.asarray(values)[bad]
-            ax.plot(
-                x,
-                np.full(x.size, 0.03),
-                "x",
-                color="tab:red",
-                ms=7,
-                mew=2,
-                transform=ax.get_xaxis_transform(),
-                clip_on=False,
-                label="failed (no value)",
-            )
+            mark_failed(ax, np.asarray(values)[bad])
             ax.legend(fontsize=7)
         ax.set_xlabel(axis_label)
         ax.set_ylabel(label)
@@ -71,3 +60,19 @@ def plot_study(values, outputs, axis_label: str, title: str, failed=None):
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def mark_failed(ax, x) -> None:
+    """Red crosses at the foot of ``ax`` at the abscissae ``x`` of designs that failed
+    (they have no value to plot)."""
+    ax.plot(
+        x,
+        np.full(np.size(x), 0.03),
+        "x",
+        color="tab:red",
+        ms=7,
+        mew=2,
+        transform=ax.get_xaxis_transform(),
+        clip_on=False,
+        label="failed (no value)",
+    )
