@@ -64,7 +64,7 @@ def drag_cmd(
     test.check(spec)  # bad input: one line, before the warning and any work
     estimate = drag_estimate(sc, test).check()
     check_out_dir(out, replace)
-    notes = _notes(quasi_static_ratio(spec, test), speed, estimate)
+    notes = _notes(quasi_static_ratio(spec, test), speed)
     enable_compilation_cache()
     run = run_drag(
         sc,
@@ -73,7 +73,9 @@ def drag_cmd(
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
+        # Said once the folder is claimed: a refusal after them would make bad input two lines.
         on_start=lambda: [typer.echo(n, err=True) for n in notes],
+        estimate=estimate.text(),
     )
     if as_json:
         typer.echo(summary_json(run.summary))
@@ -81,7 +83,7 @@ def drag_cmd(
     _print(run.summary)
 
 
-def _notes(ratio: float, speed: float, estimate) -> list[str]:
+def _notes(ratio: float, speed: float) -> list[str]:
     """What to say once the test starts (said earlier, a refusal after them would make
     bad input more than one line)."""
     notes = []
@@ -90,8 +92,6 @@ def _notes(ratio: float, speed: float, estimate) -> list[str]:
             f"warning: --speed {speed:g} mm/s is not quasi-static for this bristle (it crosses "
             f"a pitch in {1 / ratio:.3g} of its first periods; keep that above 20)"
         )
-    if estimate.long:
-        notes.append(f"note: {estimate.text()}")
     return notes
 
 

@@ -68,7 +68,6 @@ def simulate_cmd(
     if estimate is not None:
         estimate.check()
     check_out_dir(out, replace)
-    long = estimate is not None and estimate.long
     enable_compilation_cache()
     run = run_simulation(
         sc,
@@ -76,8 +75,7 @@ def simulate_cmd(
         progress=False if as_json else progress,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
-        # Said once the folder is claimed: a refusal after it would make bad input two lines.
-        on_start=(lambda: typer.echo(f"note: {estimate.text()}", err=True)) if long else None,
+        estimate=None if estimate is None else estimate.text(),
     )
     for w in (*run.notes, *run.summary["warnings"]):
         typer.echo(f"warning: {w}", err=True)

@@ -54,9 +54,11 @@ def run_drag(
     command: str = "",
     replace: bool = False,
     on_start: Callable[[], None] | None = None,
+    estimate: str | None = None,
 ) -> DragRun:
     """Run the drag test of scenario ``sc``; with ``write``, put the results in ``out``.
-    ``on_start`` is called once every input is checked and the folder claimed."""
+    ``on_start`` is called once every input is checked and the folder claimed; the first
+    line's expected time comes from the last such test here, else from ``estimate``."""
     from bristlecrawler.crawler.drag import build_drag
     from bristlecrawler.scenario.convert import to_spec
 
@@ -70,13 +72,19 @@ def run_drag(
     from bristlecrawler.io.costs import record
     from bristlecrawler.io.netcdf import write_netcdf
     from bristlecrawler.io.runs import claim_run_dir
-    from bristlecrawler.jobs.estimates import announce, expected, run_seconds, scenario_key
+    from bristlecrawler.jobs.estimates import (
+        announce,
+        expected,
+        run_seconds,
+        scenario_key,
+        unmeasured,
+    )
 
     key = scenario_key("drag", {"scenario": sc.model_dump(mode="json"), "test": repr(test)})
     with claim_run_dir(out, f"drag-{sc.name}", replace=replace, command=command) as run:
         _started(on_start)
         if progress is not False:
-            first = "no earlier drag test of this scenario here to estimate its time from"
+            first = unmeasured("drag test of this scenario", estimate)
             announce("drag test", f"results go to {run.target}; {expected('drag', key, first)}")
         t0 = time.perf_counter()
         r = solve_drag(spec, test, progress)

@@ -104,6 +104,14 @@ def expected(kind: str, key: str, otherwise: str) -> str:
     )
 
 
+def unmeasured(what: str, estimate: str | None) -> str:
+    """What the first line says where no earlier ``what`` was measured here: the a-priori
+    ``estimate`` (from the reference machine's costs), if there is one."""
+    if estimate is None:
+        return f"no earlier {what} here to estimate its time from"
+    return f"no earlier {what} here; from the reference machine's costs, {estimate}"
+
+
 def run_seconds(wall_s: float, stats: dict) -> float:
     """A run's wall time without its compilation (unknown compile time: all of it)."""
     compile_s = stats.get("compile_time_s", float("nan"))

@@ -130,12 +130,15 @@ def run_simulation(
     command: str = "",
     replace: bool = False,
     on_start: Callable[[], None] | None = None,
+    estimate: str | None = None,
 ) -> SimulationRun:
     """Run scenario ``sc``; with ``write``, put the results in ``out`` (see the module).
 
     The folder is claimed before the solve and appears complete or not at all
     (:func:`bristlecrawler.io.runs.claim_run_dir`; ``replace`` replaces a run already there).
-    ``on_start`` is called once every input is checked and the folder claimed.
+    ``on_start`` is called once every input is checked and the folder claimed. The run's
+    first line says how long it should take: from its last run here, else from
+    ``estimate`` (the a-priori estimate of :mod:`bristlecrawler.scenario.cost`).
     """
     from bristlecrawler.scenario.convert import to_spec
 
@@ -148,13 +151,19 @@ def run_simulation(
 
     from bristlecrawler.io.costs import record
     from bristlecrawler.io.runs import claim_run_dir
-    from bristlecrawler.jobs.estimates import announce, expected, run_seconds, scenario_key
+    from bristlecrawler.jobs.estimates import (
+        announce,
+        expected,
+        run_seconds,
+        scenario_key,
+        unmeasured,
+    )
 
     key = scenario_key("simulate", sc.model_dump(mode="json"))
     with claim_run_dir(out, f"simulate-{sc.name}", replace=replace, command=command) as run:
         _started(on_start)
         if progress is not False:
-            first = "no earlier run of this scenario here to estimate its time from"
+            first = unmeasured("run of this scenario", estimate)
             announce("crawler", f"results go to {run.target}; {expected('simulate', key, first)}")
         t0 = time.perf_counter()
         h = solve(spec, progress)
