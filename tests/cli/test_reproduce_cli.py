@@ -47,6 +47,7 @@ def rows(quick):
     return {r["key"]: r for r in json.loads(stdout)["rows"]}
 
 
+@pytest.mark.slow
 def test_every_part_ran_and_the_table_has_every_row(quick, rows):
     doc = json.loads(quick[1])
     assert doc["failed"] == []
@@ -60,6 +61,7 @@ def test_every_part_ran_and_the_table_has_every_row(quick, rows):
             assert r["difference"] == pytest.approx(r["ours"] - r["paper"])
 
 
+@pytest.mark.slow
 def test_the_papers_numbers_are_the_papers(rows):
     paper = {k: rows[k]["paper"] for k in REQUIRED_ROWS}
     assert paper == {
@@ -74,6 +76,7 @@ def test_the_papers_numbers_are_the_papers(rows):
     }
 
 
+@pytest.mark.slow
 def test_quick_numbers_are_physical(rows):
     """One cycle at alpha = pi/4 advances less than the stroke and more than half of it;
     alpha = 0 advances less than that on average; the quick run does not pretend to have
@@ -88,6 +91,7 @@ def test_quick_numbers_are_physical(rows):
     assert 0.0 < rows["mean_connector_force_N"]["ours"] < 0.45
 
 
+@pytest.mark.slow
 def test_differences_give_a_reason_and_name_the_docs_section(quick, rows):
     """The report travels without the docs: a difference names the section that explains
     it (and table.json gives its page in docs/), no relative link."""
@@ -101,6 +105,7 @@ def test_differences_give_a_reason_and_name_the_docs_section(quick, rows):
     assert "<th>verdict</th>" in page and "This part took" in page
 
 
+@pytest.mark.slow
 def test_the_run_folder_holds_the_report_and_its_provenance(quick):
     out = quick[3]
     for name in ("report.html", "report.md", "table.json", "config.json", "meta.json"):
@@ -120,6 +125,7 @@ def _decoded(uri: str) -> bytes:
     return raw
 
 
+@pytest.mark.slow
 def test_every_figure_and_link_of_the_html_resolves(quick, rows):
     out = quick[3]
     page = (out / "report.html").read_text(encoding="utf-8")
@@ -138,6 +144,7 @@ def test_every_figure_and_link_of_the_html_resolves(quick, rows):
     assert "This part failed" not in page
 
 
+@pytest.mark.slow
 def test_every_figure_of_the_markdown_exists(quick):
     out = quick[3]
     text = (out / "report.md").read_text(encoding="utf-8")
@@ -154,6 +161,7 @@ def test_the_quoted_reasons_are_in_the_docs():
         assert " ".join(quote.split()) in text, (page, quote[:40])
 
 
+@pytest.mark.slow
 def test_an_out_folder_holding_a_run_is_refused_untouched(quick, run_cli):
     out = quick[3]
     before = sorted((p.name, p.stat().st_mtime_ns) for p in out.iterdir())

@@ -72,6 +72,7 @@ def _place(rng, sub, radius, theta, pressed):
     return jnp.asarray(np.concatenate([centre - X - off, theta[:, None]], axis=-1))
 
 
+@pytest.mark.slow
 @settings(max_examples=6, deadline=None)
 @given(
     seed=st.integers(0, 2**31 - 1),
@@ -185,6 +186,7 @@ def _pressed_strip(active, press):
     return fe.integrate(model, state, 0.01, 5e-4, integrator=STRIP_HHT, throw=False)
 
 
+@pytest.mark.slow
 def test_a_run_with_the_broad_phase_is_the_run_without_it():
     # The clamp goes 0.02 mm down, 0.01 mm into the plane, and the strip next to it comes
     # down on the plane: two of the five points touch. A broad phase of two points (the
@@ -196,6 +198,7 @@ def test_a_run_with_the_broad_phase_is_the_run_without_it():
     np.testing.assert_array_equal(broad.times, full.times)
 
 
+@pytest.mark.slow
 def test_more_points_below_the_top_than_active_is_a_fatal_error_naming_it():
     res = _pressed_strip(1, 0.02)  # the same run with room for one point: two touch
     assert not res.ok
@@ -205,6 +208,7 @@ def test_more_points_below_the_top_than_active_is_a_fatal_error_naming_it():
     assert res.times.size > 0 and res.times[-1] < 0.01
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("driver", ["host", "compiled"])
 def test_the_adaptive_drivers_stop_at_once_on_a_contact_overflow(driver):
     from bristlecrawler import fe

@@ -26,6 +26,7 @@ def runs():
 # -- Coulomb oscillator (HHT, dt = 1 ms) --------------------------------------------------
 
 
+@pytest.mark.slow
 def test_oscillator_turning_points_match_the_closed_form(runs):
     run = runs.oscillator
     ref = run.reference
@@ -34,12 +35,14 @@ def test_oscillator_turning_points_match_the_closed_form(runs):
     np.testing.assert_allclose(run.turning_points, ref.positions, rtol=0, atol=1e-4 * 100.0)
 
 
+@pytest.mark.slow
 def test_oscillator_turning_points_match_an_event_driven_integrator(runs):
     # The same ODE integrated by scipy with events: independent of the closed form.
     ode = integrate_coulomb_oscillator(DEFAULT_OSCILLATOR, t_end=3.0)
     np.testing.assert_allclose(runs.oscillator.turning_points, ode.positions, atol=1e-2)
 
 
+@pytest.mark.slow
 def test_oscillator_stop_time(runs):
     # phase shifts of the four reversals inside a step and in the stick zone: 2.8e-3
     run = runs.oscillator
@@ -48,6 +51,7 @@ def test_oscillator_stop_time(runs):
     assert run.turning_times[1] == pytest.approx(math.pi / DEFAULT_OSCILLATOR.omega, rel=1e-4)
 
 
+@pytest.mark.slow
 def test_oscillator_dissipation_accounts_for_the_lost_spring_energy(runs):
     run = runs.oscillator
     assert run.energy_balance_rel_error < 1e-4
@@ -56,6 +60,7 @@ def test_oscillator_dissipation_accounts_for_the_lost_spring_energy(runs):
 # -- block on an incline -------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_incline_push_ratio(runs):
     run = runs.incline
     assert run.ratio == pytest.approx(run.reference, rel=1e-4)
@@ -66,6 +71,7 @@ def test_incline_push_ratio(runs):
 # -- pressed-and-dragged bristle -------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_pressed_bristle_matches_the_linearised_answer(runs):
     run = runs.pressed
     ref = run.reference
@@ -75,6 +81,7 @@ def test_pressed_bristle_matches_the_linearised_answer(runs):
     assert run.normal_in_slip == pytest.approx(ref.normal_in_slip, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_pressed_bristle_deviation_is_first_order_in_the_press(runs):
     # The FE beam is geometrically nonlinear: its deviation from the linear answer per unit
     # press halves with the press (that is what the extrapolation removes).
@@ -91,6 +98,7 @@ def test_pressed_bristle_deviation_is_first_order_in_the_press(runs):
 # -- bristle tip dragged across grooves ------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_grooved_drag_energy_balance(runs):
     run = runs.grooved
     assert run.balance_rel_error < 1e-3
@@ -100,6 +108,7 @@ def test_grooved_drag_energy_balance(runs):
     assert np.all(np.diff(E["friction"]) >= -1e-15)
 
 
+@pytest.mark.slow
 def test_grooved_drag_drops_into_and_climbs_out_of_every_groove(runs):
     run = runs.grooved
     assert run.grooves_passed == 2
@@ -109,6 +118,7 @@ def test_grooved_drag_drops_into_and_climbs_out_of_every_groove(runs):
     assert np.any(run.states == STICK)
 
 
+@pytest.mark.slow
 def test_grooved_drag_forces_stay_finite(runs):
     run = runs.grooved
     assert np.all(np.isfinite(run.p_n)) and np.all(np.isfinite(run.f_t))
@@ -120,6 +130,7 @@ def test_grooved_drag_forces_stay_finite(runs):
 # -- verify rows and JSON --------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_verify_rows_pass_and_json_has_the_issue_keys(runs):
     rows, doc = contact_rows(runs)
     failed = [

@@ -176,6 +176,7 @@ def _propped_cantilever(n_el, a, P, law_load):
     return reactions, float(law.k_n), EI, L
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("a", [7.0, 5.0])
 def test_propped_cantilever_reaction_matches_the_closed_form(a):
     """Euler-Bernoulli, small deflection: an end load P on a cantilever propped at x = a by
@@ -189,6 +190,7 @@ def test_propped_cantilever_reaction_matches_the_closed_form(a):
     assert reactions.max() == pytest.approx(R, rel=2e-4)
 
 
+@pytest.mark.slow
 def test_window_follows_a_face_and_carries_its_pairs():
     """Commit after moving a face by one period: the window re-centres by one period and
     every corner that stays in it keeps its pair (anchor, state, forces from the return
@@ -270,6 +272,7 @@ def _tangents(m, u, h):
     return dense, banded_J
 
 
+@pytest.mark.slow
 def test_banded_tangent_keeps_every_coupling_of_the_corner_term():
     """The corner term reads four consecutive outline points per pair (nodes up to three
     apart); it declares them, the structure widens its band, and the coloured-JVP tangent
@@ -298,6 +301,7 @@ def _residual_and_tangent(term, p, u, h):
     return np.asarray(jax.jit(f)(u)), np.asarray(jax.jit(jax.jacfwd(f))(u))
 
 
+@pytest.mark.slow
 def test_tangent_through_the_closest_pairs_only_is_exact_while_they_hold_every_contact():
     """The corner term differentiates only the ``tangent_pairs`` pairs of an outline with
     the smallest clearances (lower bounds on the gaps). The residual is always that of
@@ -331,6 +335,7 @@ def test_a_term_coupling_a_missing_node_is_rejected():
         s.build()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("stretch", [1.0, 1.2, 0.85])
 def test_sliding_friction_is_coulomb_on_a_stretched_face(stretch):
     """A strip pressed 0.1 um into the land edges, stretched by ``stretch`` and slid
@@ -363,6 +368,7 @@ def test_sliding_friction_is_coulomb_on_a_stretched_face(stretch):
     assert closed.sum() >= 2 and np.all(np.asarray(h1.state)[0][closed] == 2)  # all slip
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(
     angle=st.floats(-math.pi, math.pi),

@@ -8,6 +8,7 @@ import math
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
@@ -115,6 +116,7 @@ def _setup():
     return _PROGRAMS[0]
 
 
+@pytest.mark.slow
 @settings(max_examples=10, deadline=None)
 @given(
     edge=st.sampled_from([6.25, 7.25]),
@@ -227,6 +229,7 @@ def test_local_tangent_lacks_the_stretch_of_segments_beyond_its_window():
     assert np.abs(Kl - Ka).max() > 0.1 * float(soft.k_t)
 
 
+@pytest.mark.slow
 def test_derivative_in_the_parameters_is_the_whole_outlines():
     """A tangent in anything but the displacements (here the friction coefficient and the
     corner positions) takes the derivative through the whole outline."""
@@ -255,6 +258,7 @@ def test_derivative_in_the_parameters_is_the_whole_outlines():
     np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * np.abs(b).max())
 
 
+@pytest.mark.slow
 def test_banded_newton_tangent_equals_the_whole_outline_jacobian():
     """Through the solver's coloured extraction (the products of the Newton tangent) the
     local tangent of a clamped strip pressed onto the land edges gives the dense

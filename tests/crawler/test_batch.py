@@ -45,6 +45,7 @@ def batch():
     return run_batch([design(*d) for d in DESIGNS])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("index", range(len(DESIGNS)))
 def test_each_design_of_a_batch_takes_the_steps_of_its_single_run(index):
     single = run(design(*DESIGNS[index]))
@@ -58,6 +59,7 @@ def test_each_design_of_a_batch_takes_the_steps_of_its_single_run(index):
     np.testing.assert_allclose(h.tip_position[-1], single.tip_position[-1], atol=1e-6)
 
 
+@pytest.mark.slow
 def test_a_batch_making_its_line_search_trials_at_once_takes_the_same_steps():
     """``batch_trials="parallel"`` evaluates every trial of a line search in one pass and
     takes the one the sequential search stops at: the same steps, advance and Newton

@@ -36,6 +36,7 @@ def _grooves():
     return PAPER, drag_test(PAPER, DragTest(direction="along", distance=6.0, speed=2.0))
 
 
+@pytest.mark.slow
 def test_sliding_on_a_flat_plane_takes_mu_times_the_normal_load():
     spec, r = _flat()
     k = r.first_slip(0)
@@ -65,6 +66,7 @@ def test_the_first_loading_slope_is_the_bristles_closed_form_stiffness():
     assert 1.0 < r.stick_slope(0) / k < 1.08
 
 
+@pytest.mark.slow
 def test_the_work_of_the_drive_over_whole_pitches_is_what_they_dissipate():
     """Over whole pitches of steady sliding the elastic energy comes back to its value,
     so the drive's work (the integral of its force) is the friction and damping loss, less

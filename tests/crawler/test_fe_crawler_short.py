@@ -46,6 +46,7 @@ def run(request):
     return _run(request.param)
 
 
+@pytest.mark.slow
 def test_a_frozen_start_converges_to_the_same_motion():
     """The frozen iterations only choose where Newton starts: every accepted step is
     converged on the Coulomb law, so the run ends in the same state (to the solver's

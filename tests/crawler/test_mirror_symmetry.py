@@ -103,6 +103,7 @@ def _case(shift, drop, seed):
     return u, u_anchor
 
 
+@pytest.mark.slow
 def test_the_cases_load_both_terms_in_stick_and_in_slip():
     # Together the cases put points of each contact term in stick and in slip, so the
     # mirror test below covers both branches of the return mapping in both terms.

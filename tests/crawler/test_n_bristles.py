@@ -104,6 +104,7 @@ def _three():
     return ex.compare(3, spec, stages=(*DEFAULT_STAGES, Hold(0.5)))
 
 
+@pytest.mark.slow
 def test_three_bristles_advance_and_every_segment_does_work():
     """It advances like the reduced model's crawler, and the energy balance closes only
     with the work of both actuators (the second one's share is far from zero)."""

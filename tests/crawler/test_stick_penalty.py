@@ -40,6 +40,7 @@ def _advance(drift: float) -> float:
     return run(to_spec(sc)).net_advance
 
 
+@pytest.mark.slow
 def test_the_gait_does_not_depend_on_a_small_stick_drift():
     fine, paper = _advance(1e-4), _advance(1e-3)
     # The inclined bristles move the crawler along the grain even on a flat substrate.

@@ -11,6 +11,7 @@ PYTHON = blocks("python")
 SHELL = blocks("bash")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("page, index, code", PYTHON, ids=[f"{p}#{i}" for p, i, _ in PYTHON])
 def test_python_block_runs(page, index, code, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)  # files a block writes land here

@@ -32,6 +32,7 @@ def run_scenario():
     return load("fe_run_scenario")
 
 
+@pytest.mark.slow
 def test_inclined_bristles_advance_and_vertical_ones_on_a_mirror_texture_do_not(run_scenario):
     """alpha = 0 on grooves placed symmetrically under the crawler: the problem is mirror
     symmetric, so it cannot advance; alpha = 45 deg breaks the symmetry."""
@@ -43,6 +44,7 @@ def test_inclined_bristles_advance_and_vertical_ones_on_a_mirror_texture_do_not(
     assert ex.work_inclined_mJ > 0.0
 
 
+@pytest.mark.slow
 def test_netcdf_example_reads_back_the_run(run_scenario):
     ex = load("fe_read_results_netcdf")
     n = ex.numbers
@@ -73,6 +75,7 @@ def test_texture_example_the_pitch_reaches_the_model():
     assert np.ptp(adv) > 1e-2
 
 
+@pytest.mark.slow
 def test_outputs_reference_lists_every_variable_of_crawler_nc(run_scenario):
 
     text = (EXAMPLES.parent / "docs" / "reference" / "outputs.md").read_text()

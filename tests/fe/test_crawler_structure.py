@@ -124,6 +124,7 @@ def test_banded_jacobian_matches_dense(model):
     assert np.allclose((dense + shift * np.eye(topo.n_red)) @ x, r, atol=1e-10)
 
 
+@pytest.mark.slow
 def test_gravity_static_balance(model, equilibrium):
     m, _ = model
     st = equilibrium
@@ -143,6 +144,7 @@ def _beam_mass(m):
     )
 
 
+@pytest.mark.slow
 def test_hht_follows_actuated_length(model, equilibrium):
     m, nodes = model
     st = equilibrium

@@ -44,6 +44,7 @@ def _released(m, scale=1e-3):
     return initial_state(m, q=solve_static(pre, check_support=False).state.q)
 
 
+@pytest.mark.slow
 def test_vmap_step_matches_individual_runs(model):
     """The jitted step vmapped over three designs (Young's moduli) takes the same CHUNK
     steps as each design run alone (the compiled ``run_fixed`` scan of that step)."""
@@ -101,6 +102,7 @@ def test_stiffness_damping_takes_its_modal_ratio(model):
     assert np.exp(-3.5) < ratio < np.exp(-2.8)
 
 
+@pytest.mark.slow
 def test_mass_damping_only_topology_same_steps_and_refuses_a1(model):
     """A topology built without stiffness damping (``Structure.stiffness_damping(False)``,
     the crawler's: its programs leave the K v product out) takes the steps of the full
@@ -194,6 +196,7 @@ def _drive(model, state, t_end, dt, scheme, capacity, dt_min, host=False):
     return carry, jax.tree.map(lambda *r: np.concatenate(r), *rows), failed
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("host", [False, True], ids=["compiled", "host-loop"])
 def test_compiled_driver_takes_the_steps_of_the_python_driver(model, host):
     """Same step rules (cut on failure, grow after easy steps): same accepted times and
@@ -218,6 +221,7 @@ def test_compiled_driver_takes_the_steps_of_the_python_driver(model, host):
     np.testing.assert_allclose(rec["tip"], np.stack(ref.observed), rtol=1e-9, atol=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("host", [False, True], ids=["compiled", "host-loop"])
 def test_compiled_driver_reports_a_step_it_cannot_cut(model, host):
     """A Newton that cannot converge (one iteration allowed on a nonlinear step) stops the
@@ -244,6 +248,7 @@ class _TipStepCheck:
         return jnp.linalg.norm(new["tip"] - prev["tip"]) / self.tol
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("host", [False, True], ids=["compiled", "host-loop"])
 def test_driver_check_bounds_every_accepted_step(model, host):
     """A step the check refuses is cut (status STEP_ERROR) and retried: every accepted step

@@ -27,6 +27,7 @@ def _lowest(load_ratio):
     return float(md.eigenvalues[0]), float(md.omega[0])
 
 
+@pytest.mark.slow
 def test_the_lowest_eigenvalue_falls_with_compression_and_turns_negative_past_euler():
     w0, om0 = _lowest(0.0)
     half, _ = _lowest(0.5)

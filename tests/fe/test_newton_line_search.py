@@ -274,6 +274,7 @@ def test_non_positive_max_correction_is_refused(cap):
         )
 
 
+@pytest.mark.slow
 def test_the_dynamic_step_caps_its_corrections():
     """`Integrator.max_correction` reaches the step's Newton: a cantilever under a sudden
     tip load, one long HHT step from rest, Newton from the last state (constant
@@ -304,6 +305,7 @@ def test_the_dynamic_step_caps_its_corrections():
     np.testing.assert_allclose(u_cap, u_free, rtol=0.0, atol=1e-8 * deflection)
 
 
+@pytest.mark.slow
 @settings(max_examples=8, deadline=None)
 @given(
     target=st.floats(-4.0, 4.0),

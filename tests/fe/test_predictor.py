@@ -51,6 +51,7 @@ def _run(carried, predictor):
     return run_fixed(m, s0, m.params, DT, STEPS, ig)
 
 
+@pytest.mark.slow
 def test_tangent_predictor_carries_the_bristle(carried):
     _m, chain, _ = carried
     final, infos = _run(carried, "tangent")
@@ -66,6 +67,7 @@ def test_tangent_predictor_carries_the_bristle(carried):
     assert u[chain[0], 0] > 0.5 * SPEED * STEPS * DT
 
 
+@pytest.mark.slow
 def test_constant_predictor_diverges_there(carried):
     """The same steps from the last converged q (the previous predictor) do not converge:
     the case above is one a predictor can fail."""
@@ -80,6 +82,7 @@ def test_predictor_name_is_checked():
         Integrator.hht(predictor="linear")
 
 
+@pytest.mark.slow
 def test_free_oscillation_is_unchanged_by_the_predictor():
     """With nothing prescribed in motion the predictor is the first Newton correction: both
     predictors converge to the same steps of a released cantilever."""

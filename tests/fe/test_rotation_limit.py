@@ -23,6 +23,7 @@ def twisted():
     return m, fe.initial_state(m)
 
 
+@pytest.mark.slow
 def test_a_step_that_turns_a_node_too_far_is_rejected(twisted):
     m, s0 = twisted
     big = fe.Integrator.hht(max_rotation=1e-3)
@@ -35,6 +36,7 @@ def test_a_step_that_turns_a_node_too_far_is_rejected(twisted):
     assert int(info.status) == 0 and float(jnp.max(jnp.abs(new.u[:, 2]))) > 1e-3
 
 
+@pytest.mark.slow
 def test_the_driver_cuts_until_each_step_turns_less(twisted):
     m, s0 = twisted
     res = fe.integrate(

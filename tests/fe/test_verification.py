@@ -14,6 +14,7 @@ def results():
     return run_all()
 
 
+@pytest.mark.slow
 def test_every_case_passes(results):
     rows, doc = results
     failed = [
@@ -23,12 +24,14 @@ def test_every_case_passes(results):
     assert doc["passed"]
 
 
+@pytest.mark.slow
 def test_convergence_order_is_two(results):
     # Corotational element with linear kinematics of the chord: O(h^2) in tip deflection.
     orders = results[1]["mesh_convergence"]["orders"]
     assert all(1.9 < p < 2.1 for p in orders), orders
 
 
+@pytest.mark.slow
 def test_tip_load_response_is_monotone(results):
     # More load: more deflection, more shortening, more rotation (elastica).
     runs = results[1]["cantilever_tip_load"]
@@ -37,6 +40,7 @@ def test_tip_load_response_is_monotone(results):
         assert b["theta"] > a["theta"]
 
 
+@pytest.mark.slow
 def test_cli_json_is_one_object(results, monkeypatch):
     import typer
 

@@ -160,6 +160,7 @@ stroke = ["sin2", "triangle"]
 """
 
 
+@pytest.mark.slow
 def test_the_default_local_cluster_and_the_rate_independence_of_the_gait(tmp_path, run_cli):
     """No --scheduler: a LocalCluster of processes. The sin^2 designs take the closed
     forms, the triangle ones the exact solver; the model is rate independent, so both
