@@ -2,7 +2,8 @@
 
 Two caches share one folder: JAX's persistent cache of XLA executables, and the compiled
 programs of :mod:`bristlecrawler.fe.programs` (in ``programs/``), which also skip tracing.
-Both are on by default, for the library as for the CLI. Default folder
+The stored programs are on by default, for the library as for the CLI; JAX's cache is on
+where :func:`enable_compilation_cache` is called (every CLI command). Default folder
 ``~/.cache/bristlecrawler/jax`` (or ``$XDG_CACHE_HOME``); ``BRISTLECRAWLER_JAX_CACHE=path``
 moves it, ``BRISTLECRAWLER_NO_JAX_CACHE=1`` turns both off, ``BRISTLECRAWLER_XLA_CACHE=0``
 only JAX's (whose writes are not atomic: a process reading an entry that another is writing
