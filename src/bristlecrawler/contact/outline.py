@@ -15,6 +15,7 @@ import jax
 import jax.numpy as jnp
 
 from bristlecrawler.contact.profile import _cross
+from bristlecrawler.fe.motion import interp
 
 #: A vertex of an outline whose two segments' normals differ by more than 45 degrees is a
 #: corner of the section (end faces), not a kink of a bent face: normals are not blended.
@@ -252,9 +253,9 @@ def current_arc(P, arc, s):
     0.029 N at a bent tip, stopped Newton at every step size (|R|/F alternating between
     6e-5 and 7.6e-3 at dt = 2 us). The anchor stays a material point (reference arc) in
     the history and is mapped with the current metric here."""
-    return jnp.interp(s, arc, _cumulative(P))
+    return interp(s, arc, _cumulative(P))
 
 
 def reference_arc(P, arc, c):
     """Inverse of :func:`current_arc`: reference arc coordinate (mm) of current arc ``c``."""
-    return jnp.interp(c, _cumulative(P), arc)
+    return interp(c, _cumulative(P), arc)

@@ -12,6 +12,7 @@ from typing import Any
 import jax.numpy as jnp
 
 from bristlecrawler.fe._pytree import pytree
+from bristlecrawler.fe.motion import interp
 
 
 @pytree()
@@ -39,4 +40,4 @@ class SampledStretch:
     delay: Any
 
     def __call__(self, t):
-        return -jnp.interp(t - self.delay, self.t, self.s)
+        return -interp(t - self.delay, self.t, self.s)

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from typing import Any
 
 import jax.numpy as jnp
+import numpy as np
 
 from bristlecrawler.fe._pytree import pytree
 
@@ -85,6 +86,23 @@ class Sine:
         return self.amplitude * jnp.sin(self.omega * t)
 
 
+def interp(x, xp, fp):
+    """``jnp.interp(x, xp, fp)`` for increasing ``xp`` (the same arithmetic, so the same
+    bits), held at the end values outside ``xp``, with the interval found by comparing
+    ``x`` with every ``xp`` at once rather than by ``searchsorted``'s bisection: that is
+    a loop of log2(n) passes in a compiled program, each a round of small kernels, where
+    one vectorised comparison of a few tens of knots costs one."""
+    n = xp.shape[0]
+    i = jnp.clip(jnp.searchsorted(xp, x, side="right", method="compare_all"), 1, n - 1)
+    df = fp[i] - fp[i - 1]
+    dx = xp[i] - xp[i - 1]
+    delta = x - xp[i - 1]
+    dx0 = jnp.abs(dx) <= np.spacing(np.finfo(xp.dtype).eps)
+    f = jnp.where(dx0, fp[i - 1], fp[i - 1] + (delta / jnp.where(dx0, 1, dx)) * df)
+    f = jnp.where(x < xp[0], fp[0], f)
+    return jnp.where(x > xp[-1], fp[-1], f)
+
+
 @pytree()
 class Piecewise:
     """Linear between the knots (``times`` s, increasing; ``values``), held at the end
@@ -94,7 +112,7 @@ class Piecewise:
     values: Any
 
     def __call__(self, t):
-        return jnp.interp(t, self.times, self.values)
+        return interp(t, self.times, self.values)
 
 
 @pytree(meta=("fn",))
