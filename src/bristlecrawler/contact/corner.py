@@ -55,7 +55,7 @@ from bristlecrawler.contact.coulomb import (
     generalized_forces,
     return_map,
 )
-from bristlecrawler.contact.outline import _pair, clearance, current_arc, reference_arc
+from bristlecrawler.contact.outline import _pair, _select, clearance, current_arc, reference_arc
 from bristlecrawler.contact.profile import _chain
 from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
@@ -276,23 +276,35 @@ class FaceCornerContact:
         along the outline (mm of *current* length, :func:`current_arc`) of every pair."""
         return self._current_at(u, *self._window(k0, params), anchor, params)
 
-    def _current_at(self, u, C, rho, anchor, params):
+    def _current_at(self, u, C, rho, anchor, params, sel=None):
         """:meth:`_current` of any k pairs per outline: corners ``C`` (F, k, 2), radii
-        ``rho`` (F, k), anchors (F, k)."""
+        ``rho`` (F, k), anchors (F, k); ``sel``: their features (:meth:`_select`) where
+        known."""
         P = self._points(u, params)
-        pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0))
-        g, s = jax.vmap(pair)(P, params.arc, params.side, C, rho)
+        if sel is None:
+            sel = self._select(P, C, params)
+        pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0, 0))
+        g, s = jax.vmap(pair)(P, params.arc, params.side, C, rho, sel)
         to_cur = jax.vmap(current_arc, in_axes=(0, 0, 0))
         return g, to_cur(P, params.arc, s), to_cur(P, params.arc, anchor)
+
+    @staticmethod
+    def _select(P, C, params):
+        """The feature of its outline each corner ``C`` (F, k, 2) projects on
+        (:func:`~bristlecrawler.contact.outline._select`, per pair; no derivatives)."""
+        sg = jax.lax.stop_gradient
+        per_face = jax.vmap(_select, in_axes=(None, None, 0))
+        return jax.vmap(per_face)(sg(P), params.side, sg(C))
 
     def _force(self, u, C, rho, anchor, params, mode=None):
         return self._force_and_current(u, C, rho, anchor, params, mode)[0]
 
     def _force_and_current(self, u, C, rho, anchor, params, mode=None):
-        """Nodal forces of the pairs with corners ``C`` (F, k, 2) and their (gap, current
-        arc, current anchor)."""
-        current, pull = jax.vjp(lambda u: self._current_at(u, C, rho, anchor, params), u)
-        return _pulled(current, pull, params.law, mode=mode), current
+        """Nodal forces of the pairs with corners ``C`` (F, k, 2), their (gap, current
+        arc, current anchor) and their features (:meth:`_select`)."""
+        sel = self._select(self._points(u, params), C, params)
+        current, pull = jax.vjp(lambda u: self._current_at(u, C, rho, anchor, params, sel), u)
+        return _pulled(current, pull, params.law, mode=mode), current, sel
 
     #: The residual takes ``freeze`` (:func:`bristlecrawler.fe.newton.newton`).
     freezes = True

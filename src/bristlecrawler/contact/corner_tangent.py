@@ -19,7 +19,7 @@ import jax.numpy as jnp
 from jax.custom_derivatives import SymbolicZero, zero_from_primal
 
 from bristlecrawler.contact.coulomb import generalized_forces
-from bristlecrawler.contact.outline import _features, _select
+from bristlecrawler.contact.outline import _features
 from bristlecrawler.contact.term import attached_points
 
 #: Outline points a pair reads, relative to the first point c of its feature (segment c,
@@ -28,18 +28,15 @@ from bristlecrawler.contact.term import attached_points
 WINDOW = (-1, 0, 1, 2)
 
 
-def window_stiffness(term, u, C, rho, anchor, params, mode, current):
+def window_stiffness(term, u, C, rho, anchor, params, mode, current, sel):
     """Stiffness of the pairs with corners ``C`` (F, k, 2) on the outline points that
     define them: ``(nodes, K)``, the FE nodes (F, k, 4) of the four consecutive
     outline points around each pair's feature and ``K`` (F, k, 4, 3, 4, 3), the
     derivative of the pair's forces on those points' nodes with respect to their
     displacements (copies of one node, at the tip, counted apart). ``current``: the
-    pairs' (gap, current arc, current anchor) on the whole outline (their values)."""
-    P = term._points(u, params)
-    n = P.shape[1] - 1
-    sel = jax.vmap(jax.vmap(_select, in_axes=(None, None, 0)), in_axes=(0, 0, 0))(
-        jax.lax.stop_gradient(P), params.side, jax.lax.stop_gradient(C)
-    )
+    pairs' (gap, current arc, current anchor) on the whole outline (their values);
+    ``sel``: their features (:meth:`~.corner.FaceCornerContact._select`)."""
+    n = params.arc.shape[1] - 1
     i, k, m, found, seg_wins, _ = sel
     # The feature's first point: segment i, sharp vertex k or fallback segment m; its
     # pair reads the outline points c - 1 ... c + 2 (the coupling groups declared).
@@ -158,10 +155,13 @@ def _near_forces_jvp(term, primals, tangents):
             for p, d in zip(leaves, dleaves, strict=True)
         ]
         return jax.jvp(split, primals[:5], jax.tree_util.tree_unflatten(tree, dleaves))
-    out, current = term._force_and_current(u, C, rho, anchor, params, mode)
+    out, current, sel = term._force_and_current(u, C, rho, anchor, params, mode)
     du = tangents[0]
     if _symbolic_zero(du):
         return out, jnp.zeros_like(out)
-    nodes, K = window_stiffness(term, u, *chosen[:3], params, chosen[3], take_pairs(current, idx))
+    Ck, rk, ak, mk = chosen
+    nodes, K = window_stiffness(
+        term, u, Ck, rk, ak, params, mk, take_pairs(current, idx), take_pairs(sel, idx)
+    )
     dfw = jnp.einsum("fpaibj,fpbj->fpai", K, du[nodes])
     return out, jnp.zeros_like(out).at[nodes].add(dfw)

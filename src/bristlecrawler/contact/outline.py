@@ -125,7 +125,7 @@ def _held_gap_jvp(primals, tangents):
     return jax.jvp(lambda *a: _gap_at(*a, t), tuple(args), tuple(tangents[:-1]))
 
 
-def _pair(P, arc, side, C, rho):
+def _pair(P, arc, side, C, rho, sel=None):
     """Gap (mm) and outline arc coordinate (mm) of a corner disc (C, rho) against the
     closed polygon P (first point repeated at the end), with interpolated normals.
 
@@ -150,10 +150,12 @@ def _pair(P, arc, side, C, rho):
     gap and arc coordinate are then evaluated from the (at most four) outline points that
     define it. Values and derivatives are those of the evaluation on the whole polygon
     (the choice is piecewise constant), but the tangent, pushed through ``3 bs`` seeds by
-    the FE Newton, costs four points per pair instead of the whole outline.
+    the FE Newton, costs four points per pair instead of the whole outline. ``sel``: that
+    choice where already made.
     """
     n = P.shape[0] - 1
-    sel = _select(jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C))
+    if sel is None:
+        sel = _select(jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C))
     i, k, m = sel[:3]
     # Segment i: its end points and the neighbouring ones that set the vertex normals.
     Q = P[jnp.stack([(i - 1) % n, i, i + 1, (i + 2) % n])]

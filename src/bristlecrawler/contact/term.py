@@ -54,11 +54,18 @@ def point_force(x, anchor, substrate, law, radius, mode=None):
 def _point_force_jvp(primals, tangents):
     x, anchor, substrate, law, radius, mode = primals
     dx, *others = tangents[:5]  # mode is an integer: no tangent
-    f = point_force(x, anchor, substrate, law, radius, mode)
-    df = jnp.zeros_like(f)
-    if not _is_zero(dx):
-        K = jax.jacfwd(node_force)(x, anchor, substrate, law, 0.0, radius, mode)
-        df = df + K @ dx
+
+    def force(x):
+        f = node_force(x, anchor, substrate, law, 0.0, radius, mode)
+        return f, f
+
+    if _is_zero(dx):
+        f = point_force(x, anchor, substrate, law, radius, mode)
+        df = jnp.zeros_like(f)
+    else:
+        # The force comes with K from the same evaluation (one projection, not two).
+        K, f = jax.jacfwd(force, has_aux=True)(x)
+        df = K @ dx
     if not _is_zero(others):
         # derivatives w.r.t. the parameters (design sensitivities): plain autodiff
         rest = tuple(

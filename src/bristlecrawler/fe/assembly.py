@@ -70,7 +70,7 @@ def internal_force(u, params, topo):
     return jax.grad(internal_energy)(u, params, topo)
 
 
-def internal_and_damping_force(u, v, params, topo):
+def internal_and_damping_force(u, v, params, topo, masses=None):
     """Internal force and Rayleigh damping force ``C v = a0 M v + a1 K_T(u) v`` (full, N).
 
     ``K_T v`` is a JVP of the internal force; a topology built without stiffness damping
@@ -79,17 +79,20 @@ def internal_and_damping_force(u, v, params, topo):
     tangent are work multiplied by zero. (A ``lax.cond`` on a1 instead was timed no faster
     on the paper crawler's step: the conditional inside the Newton loop costs what it saves.)
     On such a topology a1 is not read here: the time step refuses a1 != 0 (status
-    UNSUPPORTED_DAMPING), and callers outside it must not pass one.
+    UNSUPPORTED_DAMPING), and callers outside it must not pass one. ``masses``: the
+    element masses (:func:`element_masses`) where already computed.
     """
     if not topo.stiffness_damping:
         f_int = internal_force(u, params, topo)
-        return f_int, params.damping[0] * mass_times(v, params, topo)
+        return f_int, params.damping[0] * mass_times(v, params, topo, masses)
     f_int, Kv = jax.jvp(lambda u: internal_force(u, params, topo), (u,), (v,))
-    damp = params.damping[0] * mass_times(v, params, topo) + params.damping[1] * Kv
+    damp = params.damping[0] * mass_times(v, params, topo, masses) + params.damping[1] * Kv
     return f_int, damp
 
 
-def _element_masses(params, topo):
+def element_masses(params, topo):
+    """Element mass matrices (n_elems, 6, 6) [tonne, tonne mm, tonne mm^2], constant in
+    time: a step computes them once for all its residuals."""
     e = topo.arrays()["elems"]
     X = params.X
     L0 = jnp.linalg.norm(X[e[:, 1]] - X[e[:, 0]], axis=1)
@@ -98,12 +101,13 @@ def _element_masses(params, topo):
     return jax.vmap(element_mass)(L0, params.rho, b, h0, h1, lumped)
 
 
-def mass_times(a, params, topo):
-    """M a for a full vector ``a`` (n_nodes, 3); M is constant (see :mod:`section`)."""
+def mass_times(a, params, topo, masses=None):
+    """M a for a full vector ``a`` (n_nodes, 3); M is constant (see :mod:`section`).
+    ``masses``: :func:`element_masses` where already computed."""
     out = params.node_mass * a
     if topo.elems:
         e = topo.arrays()["elems"]
-        Me = _element_masses(params, topo)
+        Me = element_masses(params, topo) if masses is None else masses
         ae = jnp.concatenate([a[e[:, 0]], a[e[:, 1]]], axis=1)  # (ne, 6)
         fe = jnp.einsum("eij,ej->ei", Me, ae)
         out = out.at[e[:, 0]].add(fe[:, :3]).at[e[:, 1]].add(fe[:, 3:])
@@ -115,10 +119,11 @@ def kinetic_energy(v, params, topo):
     return 0.5 * jnp.sum(v * mass_times(v, params, topo))
 
 
-def external_force(t, lam, params, topo):
-    """Dead point loads times their amplitudes plus consistent gravity M g (full, N / N mm)."""
+def external_force(t, lam, params, topo, masses=None):
+    """Dead point loads times their amplitudes plus consistent gravity M g (full, N / N mm);
+    ``masses``: :func:`element_masses` where already computed."""
     g = jnp.zeros((topo.n_nodes, 3)).at[:, :2].set(params.gravity)
-    f = mass_times(g, params, topo)
+    f = mass_times(g, params, topo, masses)
     if topo.load_nodes:
         amp = jnp.stack([m(t) for m in params.load_amp])
         f = f.at[topo.arrays()["load_nodes"]].add(params.load_vec * amp[:, None])

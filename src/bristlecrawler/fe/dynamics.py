@@ -184,20 +184,26 @@ class Rayleigh:
         return model.with_params(damping=jnp.asarray([self.a0, self.a1], jnp.float64))
 
 
-def _force(u, v, t, history, params, topo, terms, freeze=False):
+def _force(u, v, t, history, params, topo, terms, freeze=False, masses=None):
     """r = C v + f_int + terms - f_ext (full) and its force scale (``freeze``: see
-    :func:`assembly.terms_residual`)."""
-    f_int, damp = assembly.internal_and_damping_force(u, v, params, topo)
+    :func:`assembly.terms_residual`; ``masses``: :func:`assembly.element_masses`)."""
+    f_int, damp = assembly.internal_and_damping_force(u, v, params, topo, masses)
     f_t = assembly.terms_residual(u, v, t, history, params, terms, freeze)
-    f_ext = assembly.external_force(t, 1.0, params, topo)
+    f_ext = assembly.external_force(t, 1.0, params, topo, masses)
     scale = sum(jnp.linalg.norm(x) for x in (f_int, damp, f_t, f_ext))
     return damp + f_int + f_t - f_ext, scale
 
 
-def start_force(state, params, topo, terms):
+def _masses(params, topo):
+    return assembly.element_masses(params, topo) if topo.elems else None
+
+
+def start_force(state, params, topo, terms, masses=None):
     """The force at ``state`` (the r of :func:`_force`) and its scale: the start of a time
     step's HHT residual, the same for every iterate and every step size from it."""
-    return _force(state.u, state.v, state.t, state.history, params, topo, terms)
+    if masses is None:
+        masses = _masses(params, topo)
+    return _force(state.u, state.v, state.t, state.history, params, topo, terms, masses=masses)
 
 
 def step_equations(state, params, dt, topo, terms, ig: Integrator, start=None):
@@ -210,21 +216,27 @@ def step_equations(state, params, dt, topo, terms, ig: Integrator, start=None):
     al, be, ga = ig.alpha, ig.beta, ig.gamma
     t1 = state.t + dt
     u0, v0, a0 = state.u, state.v, state.a
-    r0, s0 = start_force(state, params, topo, terms) if start is None else start
+    # Element masses once per step, not once per residual (three products M x each).
+    Me = _masses(params, topo)
+    r0, s0 = start_force(state, params, topo, terms, Me) if start is None else start
 
-    def kin(q, tc=t1):
-        # tc: time of the prescribed motions (supports, link stretches) in expand
-        u = assembly.expand(q, tc, 1.0, params, topo)
+    def newmark(u):
         a = (u - u0 - dt * v0) / (be * dt**2) - (0.5 / be - 1.0) * a0
         v = v0 + dt * ((1.0 - ga) * a0 + ga * a)
         return u, v, a
 
+    def kin(q, tc=t1):
+        # tc: time of the prescribed motions (supports, link stretches) in expand
+        return newmark(assembly.expand(q, tc, 1.0, params, topo))
+
     def residual(q, tc=t1, freeze=False):
-        u, v, a = kin(q, tc)
-        r1, s1 = _force(u, v, t1, state.history, params, topo, terms, freeze)
-        Ma = assembly.mass_times(a, params, topo)
+        # One expansion gives u and, transposed, the projection of the full residual.
+        u, pull = jax.vjp(lambda q: assembly.expand(q, tc, 1.0, params, topo), q)
+        u, v, a = newmark(u)
+        r1, s1 = _force(u, v, t1, state.history, params, topo, terms, freeze, Me)
+        Ma = assembly.mass_times(a, params, topo, Me)
         full = Ma + (1.0 + al) * r1 - al * r0
-        (R,) = jax.vjp(lambda q: assembly.expand(q, tc, 1.0, params, topo), q)[1](full)
+        (R,) = pull(full)
         return R, jnp.linalg.norm(Ma) + s1 + jnp.abs(al) * s0
 
     return kin, residual
