@@ -120,6 +120,48 @@ def test_a_second_process_loads_the_program_and_gets_the_same_numbers(tmp_path):
     assert first.startswith(repr(x.tolist()))
 
 
+# The same kind of program with JAX's persistent cache on (as the CLI has it).
+WITH_XLA_CACHE = textwrap.dedent(
+    """
+    import sys
+    import jax, jax.numpy as jnp, numpy as np
+    jax.config.update("jax_compilation_cache_dir", sys.argv[1])
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    from bristlecrawler.fe.programs import stored
+
+    def make(scale):
+        @jax.jit
+        def f(x, y):
+            z = jnp.concatenate([x, y]) * scale
+            w = jnp.concatenate([jnp.sin(z), z[::-1]])
+            return jnp.cumsum(w) @ jnp.ones_like(w)
+        return stored(f, "tests.concatenate", scale)
+
+    print(float(make(2.0)(jnp.arange(8.0), jnp.arange(8.0) + 1.0)))
+    """
+)
+
+
+def test_a_program_in_jax_s_cache_is_stored_compiled_afresh(tmp_path):
+    """A program that JAX's persistent cache already holds: the stored program is compiled
+    again rather than taken from that cache (an executable read from it serialises
+    without some of its kernels, and a process that loads it fails at its first call)."""
+    env = dict(os.environ, BRISTLECRAWLER_JAX_CACHE=str(tmp_path / "stored"))
+    env.pop("BRISTLECRAWLER_NO_JAX_CACHE", None)
+
+    def run():
+        cmd = [sys.executable, "-c", WITH_XLA_CACHE, str(tmp_path / "xla")]
+        done = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr
+        return done.stdout.strip()
+
+    first = run()  # compiles: JAX's cache and the stored program written
+    for entry in (tmp_path / "stored" / "programs").glob("*.bin"):
+        entry.unlink()
+    assert run() == first  # JAX's cache holds it; the stored program is written again
+    assert run() == first  # loads the stored program and calls it
+
+
 @pytest.mark.parametrize("damage", ["truncate", "garbage", "flip"])
 def test_a_damaged_entry_is_rebuilt_not_used(tmp_path, damage):
     first, _ = _run(tmp_path)

@@ -242,9 +242,45 @@ class StoredProgram:
         exe = _read(path)
         if exe is not None:
             return exe
-        exe = self.fn.lower(*args).compile()
+        if not _bypass_jax_cache() and jax.config.jax_compilation_cache_dir:
+            return self.fn.lower(*args).compile()  # cannot compile afresh: store nothing
+        _FRESH.on = True
+        try:
+            exe = self.fn.lower(*args).compile()
+        finally:
+            _FRESH.on = False
         _write(path, exe, self.name)
         return exe
+
+
+#: Set in a thread while it compiles a program to store.
+_FRESH = threading.local()
+
+
+@functools.lru_cache(maxsize=1)
+def _bypass_jax_cache() -> bool:
+    """Make JAX's persistent cache miss for the programs this module compiles to store
+    (in the thread that compiles them; every other compilation uses it as before).
+    Returns False where JAX's private hook is not there.
+
+    An executable that JAX read from its persistent cache serialises without the object
+    code of some of its kernels: a later process that loads it fails at the first call
+    ("Function concatenate.2_kernel not found"). A stored program is therefore always
+    compiled afresh (and JAX's cache written as usual)."""
+    try:
+        from jax._src import compiler
+
+        original = compiler._cache_read
+    except (ImportError, AttributeError):
+        return False
+
+    def read(*args, **kwargs):
+        if getattr(_FRESH, "on", False):
+            return None, None
+        return original(*args, **kwargs)
+
+    compiler._cache_read = read
+    return True
 
 
 @functools.lru_cache(maxsize=1)
