@@ -48,7 +48,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler.contact._pytree import pytree_dataclass
-from bristlecrawler.contact.corner_tangent import WINDOW, chosen_derivative, near_forces
+from bristlecrawler.contact.corner_tangent import WINDOW, near_forces
 from bristlecrawler.contact.coulomb import (
     CoulombLaw,
     frozen_status,
@@ -136,11 +136,13 @@ def _face_points(u, nodes, params):
     return attached_points(params.X, u[nodes], params.offset)
 
 
-def _pulled(current, pull, law, mode=None):
+def _pulled(current, pull, law, drop=None, mode=None):
     """Nodal forces of pairs with (gap, current arc, anchor) ``current`` through the VJP
-    ``pull`` of their geometry. ``mode``: frozen statuses
-    (:func:`~bristlecrawler.contact.coulomb.return_map`) or None."""
+    ``pull`` of their geometry; pairs flagged in ``drop`` carry none. ``mode``: frozen
+    statuses (:func:`~bristlecrawler.contact.coulomb.return_map`) or None."""
     fg, fs = generalized_forces(*current, law, mode=mode)
+    if drop is not None:
+        fg, fs = jnp.where(drop, 0.0, fg), jnp.where(drop, 0.0, fs)
     # The penalty energy depends on s - a: the anchor's material point moves with the
     # outline, so it takes -fs.
     return pull((fg, fs, -fs))[0]
@@ -321,10 +323,10 @@ class FaceCornerContact:
         the same state, more slowly. Linearising every pair (14 per bristle of the paper
         crawler) cost 1.6 ms of a 2.3 ms tangent extraction.
 
-        The forces of all pairs come from one evaluation of their geometry (vectorised
-        over the window), whose derivative is replaced by the chosen pairs' local
-        stiffness (:func:`~.corner_tangent.near_forces`): one program path, no branch for
-        the rare states where a pair left out of the tangent may touch.
+        Broad phase: the exact geometry of the other pairs is evaluated only when one of
+        them has a clearance <= 0 (it may touch); otherwise their forces are zero and
+        are not computed. On the paper crawler this saved 10-15 % of a Newton iteration
+        (the same iterates).
 
         With ``freeze`` (a bool, traced or not) each closed pair keeps the stick or slip
         status of the committed history instead of the return mapping's.
@@ -335,13 +337,36 @@ class FaceCornerContact:
         if self.tangent_pairs >= m:
             return self._force(u, C, rho, history.anchor, params, mode)
         u0 = jax.lax.stop_gradient(u)
+        # Broad phase: a cheap lower bound on every pair's gap chooses the differentiated
+        # pairs; the exact geometry of all pairs is evaluated only where a pair left out
+        # may touch (rare: at most two pairs per outline were ever closed on the paper
+        # crawler), and then adds the forces of the others as before.
         lb = jax.vmap(clearance)(self._points(u0, params), C, rho)
         _, idx = jax.lax.top_k(-lb, self.tangent_pairs)  # (F, k): the closest corners
-        if self.local_tangent:
-            return near_forces(self, u, C, rho, history.anchor, params, mode, idx)
-        # For comparison: the same values, with the chosen pairs' derivative taken
-        # through the whole outline.
-        return chosen_derivative(self, u, C, rho, history.anchor, params, mode, idx)
+
+        def take(x):
+            return jnp.take_along_axis(x, idx.reshape(*idx.shape, *([1] * (x.ndim - 2))), 1)
+
+        chosen = jnp.zeros(lb.shape, bool).at[jnp.arange(lb.shape[0])[:, None], idx].set(True)
+        near = (near_forces if self.local_tangent else FaceCornerContact._force)(
+            self,
+            u,
+            take(C),
+            take(rho),
+            take(history.anchor),
+            params,
+            None if mode is None else take(mode),
+        )
+
+        def others(_):
+            current, pull = jax.vjp(
+                lambda u: self._current_at(u, C, rho, history.anchor, params), u0
+            )
+            return _pulled(current, pull, params.law, drop=chosen, mode=mode)
+
+        may_touch = jnp.any(~chosen & ~(lb > 0.0))
+        rest = jax.lax.cond(may_touch, others, lambda _: jnp.zeros_like(u0), None)
+        return near + jax.lax.stop_gradient(rest)
 
     def penetration(self, history, params):
         """Deepest penetration (mm) of a committed history: p_N / k_N."""

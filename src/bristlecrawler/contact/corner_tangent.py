@@ -90,43 +90,21 @@ def window_stiffness(term, u, C, rho, anchor, params, mode, current, sel):
     return nodes, K
 
 
-def take_pairs(arrays, idx):
-    """Entries ``idx`` (F, k) along axis 1 of each array (F, m, ...); None stays None."""
-
-    def take(x):
-        if x is None:
-            return None
-        return jnp.take_along_axis(x, idx.reshape(*idx.shape, *([1] * (x.ndim - 2))), 1)
-
-    return tuple(take(x) for x in arrays)
-
-
-def chosen_derivative(term, u, C, rho, anchor, params, mode, idx):
-    """The forces of all the pairs (their values bit for bit those of
-    :func:`near_forces`) with the derivative of the pairs ``idx`` through the whole
-    outline (plain autodiff), the others' none."""
-    sg = jax.lax.stop_gradient
-    Ck, rk, ak, mk = take_pairs((C, rho, anchor, mode), idx)
-    near = term._force(u, Ck, rk, ak, params, mk)
-    return sg(term._force(u, C, rho, anchor, params, mode)) + (near - sg(near))
-
-
 @functools.partial(jax.custom_jvp, nondiff_argnums=(0,))
-def near_forces(term, u, C, rho, anchor, params, mode, idx):
-    """:meth:`~.corner.FaceCornerContact._force` of all the pairs (corners ``C`` (F, m, 2)),
-    whose derivative in ``u`` is assembled from the stiffness of the pairs ``idx`` (F, k)
-    on their four outline points (:func:`window_stiffness`) instead of being pushed
-    through the whole outline; the other pairs contribute no derivative.
+def near_forces(term, u, C, rho, anchor, params, mode):
+    """:meth:`~.corner.FaceCornerContact._force` of the differentiated pairs, whose derivative in
+    ``u`` is assembled from each pair's stiffness on its four outline points
+    (:func:`window_stiffness`) instead of being pushed through the
+    whole outline.
 
-    The values are those of every pair. The derivative is the chosen pairs' exact one
-    wherever a pair's stick anchor lies on the three segments around its feature (a step
-    slides a corner along a face by a fraction of a segment); beyond, it lacks the
-    stretch of the segments in between: couplings outside the groups the term declares,
-    which the banded colouring could not hold anyway (they would alias into other entries
-    of their colour). A tangent that is a product through the whole outline (jacfwd of
-    the residual, the coloured JVPs of the Newton tangent) then costs a gather, one
-    12 x 12 product per chosen pair and a scatter per seed. Any other argument's tangent
-    (not zero) takes the chosen pairs' derivative through the whole outline.
+    The values are the same. The derivative is the same wherever a pair's stick anchor
+    lies on the three segments around its feature (a step slides a corner along a face by
+    a fraction of a segment); beyond, it lacks the stretch of the segments in between:
+    couplings outside the groups the term declares, which the banded colouring could not
+    hold anyway (they would alias into other entries of their colour). A tangent that is a product
+    through the whole outline (jacfwd of the residual, the coloured JVPs of the Newton
+    tangent) then costs a gather, one 12 x 12 product per pair and a scatter per seed.
+    Any other argument's tangent (not zero) takes the whole outline's derivative.
     """
     return term._force(u, C, rho, anchor, params, mode)
 
@@ -141,27 +119,20 @@ def _is_zero(t) -> bool:
 
 @functools.partial(near_forces.defjvp, symbolic_zeros=True)
 def _near_forces_jvp(term, primals, tangents):
-    u, C, rho, anchor, params, mode, idx = primals
-    chosen = take_pairs((C, rho, anchor, mode), idx)
-    if not _is_zero(tangents[1:6]):
-        # Design sensitivities: the chosen pairs' derivative through the whole outline.
-        def split(u, C, rho, anchor, params):
-            return chosen_derivative(term, u, C, rho, anchor, params, mode, idx)
-
-        leaves, tree = jax.tree_util.tree_flatten(primals[:5])
-        dleaves = jax.tree_util.tree_leaves(tangents[:5], is_leaf=_symbolic_zero)
+    u, C, rho, anchor, params, mode = primals
+    if not _is_zero(tangents[1:]):
+        leaves, tree = jax.tree_util.tree_flatten(primals)
+        dleaves = jax.tree_util.tree_leaves(tangents, is_leaf=_symbolic_zero)
         dleaves = [
             zero_from_primal(p) if _symbolic_zero(d) else d
             for p, d in zip(leaves, dleaves, strict=True)
         ]
-        return jax.jvp(split, primals[:5], jax.tree_util.tree_unflatten(tree, dleaves))
+        whole = term._force
+        return jax.jvp(whole, primals, jax.tree_util.tree_unflatten(tree, dleaves))
     out, current, sel = term._force_and_current(u, C, rho, anchor, params, mode)
     du = tangents[0]
     if _symbolic_zero(du):
         return out, jnp.zeros_like(out)
-    Ck, rk, ak, mk = chosen
-    nodes, K = window_stiffness(
-        term, u, Ck, rk, ak, params, mk, take_pairs(current, idx), take_pairs(sel, idx)
-    )
+    nodes, K = window_stiffness(term, u, C, rho, anchor, params, mode, current, sel)
     dfw = jnp.einsum("fpaibj,fpbj->fpai", K, du[nodes])
     return out, jnp.zeros_like(out).at[nodes].add(dfw)
