@@ -150,12 +150,11 @@ def main(argv=None) -> list[dict]:
             if line.strip():
                 entry = json.loads(line)
                 done[entry["design"]] = entry
-    rows = []
+    rows, failed = [], []
     for d in designs:
         name = design_name(d)
         if name in done:
-            if "error" not in done[name]:
-                rows.append(done[name])
+            (failed if "error" in done[name] else rows).append(done[name])
             continue
         if args.cached_only and not is_cached(d):
             print(f"{name}: no cached drag test, skipped")
@@ -166,6 +165,7 @@ def main(argv=None) -> list[dict]:
             rows.append(entry)
         except Exception as exc:  # a design that fails is reported, the others go on
             entry = {"design": name, "error": f"{type(exc).__name__}: {exc}"}
+            failed.append(entry)
             print(f"{name}: {entry['error']}")
         entry["wall_s"] = time.perf_counter() - t0
         if args.out is not None:
@@ -181,6 +181,8 @@ def main(argv=None) -> list[dict]:
         )
     if args.markdown:
         print(markdown(rows))
+    for entry in failed:
+        print(f"failed: {entry['design']}: {entry['error']}")
     for name in ("texture", "paper"):
         hits = sum(r[f"{name}_hit"] for r in rows)
         err = np.abs([r[f"{name}_work_error"] for r in rows])
