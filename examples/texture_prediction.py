@@ -140,6 +140,9 @@ def main(argv=None) -> list[dict]:
     )
     p.add_argument("--markdown", action="store_true", help="print the table as Markdown")
     p.add_argument("--out", type=Path, help="JSON lines file: one row per design, resumable")
+    p.add_argument(
+        "--table-only", action="store_true", help="the table of the designs in --out, run none"
+    )
     args = p.parse_args(argv)
     if args.grid and not args.fe:
         p.error("--grid needs --fe (the grid's designs have no stored FE results)")
@@ -155,6 +158,8 @@ def main(argv=None) -> list[dict]:
         name = design_name(d)
         if name in done:
             (failed if "error" in done[name] else rows).append(done[name])
+            continue
+        if args.table_only:
             continue
         if args.cached_only and not is_cached(d):
             print(f"{name}: no cached drag test, skipped")
