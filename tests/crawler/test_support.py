@@ -31,7 +31,8 @@ def test_the_clearance_is_the_built_crawlers_clamp_corner_over_its_tip(alpha):
     chain = cm.bristles[0]
     n = b.normal()
     th = b.node_thickness()
-    lowest = [min(X[k, 1] + s * 0.5 * h * n[1] for s in (-1, 1)) for k, h in zip(chain, th)]
+    pairs = zip(chain, th, strict=True)
+    lowest = [min(X[k, 1] + s * 0.5 * h * n[1] for s in (-1, 1)) for k, h in pairs]
     assert lowest[0] - lowest[-1] == pytest.approx(support(b, 0.0).clearance_mm, abs=1e-9)
 
 

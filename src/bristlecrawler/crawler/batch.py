@@ -13,7 +13,6 @@ single run would raise; the others go on.
 from __future__ import annotations
 
 import math
-
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
