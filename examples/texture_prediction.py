@@ -7,17 +7,22 @@ crawler's steady cycle (the last of two) and work. A prediction hits when its st
 advance is within half a pitch of the FE's. ::
 
     python examples/texture_prediction.py                 # the designs with FE results below
-    python examples/texture_prediction.py --grid --fe     # the 24-design grid, FE runs too
+    python examples/texture_prediction.py --grid --fe --out runs/texture-grid.jsonl
 
 ``FE_MEASURED`` holds FE results of the findings (docs/findings.md: the pitch study and
 the bristle-count study, two cycles of s~ = 20 mm at 45 degrees), so that the table needs
 no FE run; ``--fe`` runs the FE crawler for every design instead (minutes each).
+``--out FILE.jsonl`` appends each design's row (or its failure) as it finishes, and a
+second run with the same file skips the designs already in it.
 """
 
 from __future__ import annotations
 
 import argparse
 import itertools
+import json
+import time
+from pathlib import Path
 
 import numpy as np
 
@@ -67,6 +72,10 @@ def fe_run(sc) -> tuple[tuple[float, ...], float]:
     return tuple(float(a) for a in h.advance_per_cycle()), float(h.connector_work[-1])
 
 
+def design_name(overrides) -> str:
+    return " ".join(overrides) or "paper"
+
+
 def is_cached(overrides) -> bool:
     """Whether the design's drag test is in the drag cache."""
     from bristlecrawler.jobs.predict import cache_folder, cache_key, prediction_drag_test
@@ -86,10 +95,18 @@ def evaluate(overrides, fe=None) -> dict:
     models = predict_models(spec, summary, cycles=2)
     fe_adv, fe_work = fe if fe is not None else fe_run(sc)
     pitch = summary["texture"]["pitch_mm"]
-    row = {"design": " ".join(overrides) or "paper", "pitch_mm": pitch, "fe_steady_mm": fe_adv[-1]}
+    row = {
+        "design": design_name(overrides),
+        "pitch_mm": pitch,
+        "fe_advance_per_cycle_mm": list(fe_adv),
+        "fe_steady_mm": fe_adv[-1],
+        "k_N_per_mm": summary["texture"]["k_N_per_mm"],
+    }
     for name, m in models.items():
         steady = m.advance_per_cycle_mm[-1]
         row[f"{name}_steady_mm"] = steady
+        row[f"{name}_advance_per_cycle_mm"] = list(m.advance_per_cycle_mm)
+        row[f"{name}_work_mJ"] = m.work_mJ
         row[f"{name}_hit"] = abs(steady - fe_adv[-1]) <= 0.5 * pitch
         row[f"{name}_work_error"] = m.work_mJ / fe_work - 1.0
     row["fe_work_mJ"] = fe_work
@@ -122,17 +139,44 @@ def main(argv=None) -> list[dict]:
         "--cached-only", action="store_true", help="skip designs whose drag test is not cached"
     )
     p.add_argument("--markdown", action="store_true", help="print the table as Markdown")
+    p.add_argument("--out", type=Path, help="JSON lines file: one row per design, resumable")
+    p.add_argument(
+        "--table-only", action="store_true", help="the table of the designs in --out, run none"
+    )
     args = p.parse_args(argv)
+    if args.grid and not args.fe:
+        p.error("--grid needs --fe (the grid's designs have no stored FE results)")
     designs = grid() if args.grid else list(FE_MEASURED)
-    rows = []
+    done = {}
+    if args.out is not None and args.out.is_file():
+        for line in args.out.read_text().splitlines():
+            if line.strip():
+                entry = json.loads(line)
+                done[entry["design"]] = entry
+    rows, failed = [], []
     for d in designs:
-        if args.cached_only and not is_cached(d):
-            print(f"{' '.join(d) or 'paper'}: no cached drag test, skipped")
+        name = design_name(d)
+        if name in done:
+            (failed if "error" in done[name] else rows).append(done[name])
             continue
+        if args.table_only:
+            continue
+        if args.cached_only and not is_cached(d):
+            print(f"{name}: no cached drag test, skipped")
+            continue
+        t0 = time.perf_counter()
         try:
-            rows.append(evaluate(d, None if args.fe else FE_MEASURED[d]))
+            entry = evaluate(d, None if args.fe else FE_MEASURED[d])
+            rows.append(entry)
         except Exception as exc:  # a design that fails is reported, the others go on
-            print(f"{' '.join(d)}: {type(exc).__name__}: {exc}")
+            entry = {"design": name, "error": f"{type(exc).__name__}: {exc}"}
+            failed.append(entry)
+            print(f"{name}: {entry['error']}")
+        entry["wall_s"] = time.perf_counter() - t0
+        if args.out is not None:
+            args.out.parent.mkdir(parents=True, exist_ok=True)
+            with args.out.open("a") as f:
+                f.write(json.dumps(entry) + "\n")
     print(f"{'design':40s} {'FE':>6s} {'texture':>8s} {'paper':>6s}  work err (tex, paper)")
     for r in rows:
         errors = f"{r['texture_work_error']:+.1%} {r['paper_work_error']:+.1%}"
@@ -142,6 +186,8 @@ def main(argv=None) -> list[dict]:
         )
     if args.markdown:
         print(markdown(rows))
+    for entry in failed:
+        print(f"failed: {entry['design']}: {entry['error']}")
     for name in ("texture", "paper"):
         hits = sum(r[f"{name}_hit"] for r in rows)
         err = np.abs([r[f"{name}_work_error"] for r in rows])

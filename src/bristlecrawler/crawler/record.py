@@ -58,6 +58,10 @@ class EnergyCheck:
         # e / inf is 0 for a finite loss; a non-finite error gives NaN, which is refused.
         return jnp.maximum(-e / self.tol, e / self.loss_tol)
 
+    def created(self, prev, new):
+        """The check of the energy created alone (losses unbounded), the gravity step's."""
+        return -self.error(prev, new) / self.tol
+
 
 def observer(cm):
     """The record of a state, jitted once per model structure: a run of a structure
