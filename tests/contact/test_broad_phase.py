@@ -106,6 +106,7 @@ def test_broad_phase_gives_the_full_residual_and_tangent(seed, n_pressed, active
         assert float(jnp.max(jnp.abs(J_broad - J_full))) <= 1e-12 * jscale
 
 
+@pytest.mark.slow
 def test_a_disc_whose_centre_clears_the_top_but_whose_rim_does_not_is_kept():
     # Points 0..2 are discs of radius 0.1 with their centres 0.05 mm above the lands: they
     # touch, and points 3.. (no radius) are 0.02 mm above the lands. The broad phase must

@@ -120,6 +120,7 @@ def test_three_bristles_advance_and_every_segment_does_work():
     assert works[1] > 0.2 * works.sum()
 
 
+@pytest.mark.slow
 def test_a_hold_after_the_stroke_records_a_crawler_at_rest():
     """A user stage after the stroke: with the actuators at rest no work is done and the
     crawler, standing on its bristles, stays where it is."""
