@@ -11,13 +11,13 @@ from bristlecrawler.crawler import CrawlerSpec
 from bristlecrawler.crawler.drag import DragTest, build_drag, drag_test, quasi_static_ratio
 from bristlecrawler.errors import InputError
 from bristlecrawler.verification.references import inclined_horizontal_stiffness
+from structures import drag_rig
 
 PAPER = CrawlerSpec.paper()
 
 
 def _coarse(spec, **contact):
-    c = dataclasses.replace(spec.contact, nodes="tip", corners=False, **contact)
-    return dataclasses.replace(spec.replace_bristles(elements=6), contact=c)
+    return drag_rig(spec, **contact)
 
 
 @functools.cache
