@@ -312,6 +312,7 @@ def test_sawtooth_matches_brute_force(pitch, height, f, x, y):
     assert g == pytest.approx(ref, abs=2e-3 * pitch)
 
 
+@pytest.mark.slow
 def test_polyline_with_vertical_walls_matches_grooves():
     # A polyline describing the paper's grooves gives the same answer as Grooves.
     poly = Polyline(points=[[-0.5, 0], [0, 0], [0, -0.25], [1, -0.25], [1, 0], [1.5, 0]])
@@ -322,6 +323,7 @@ def test_polyline_with_vertical_walls_matches_grooves():
     np.testing.assert_allclose(a.point, b.point, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_vmap_over_designs_and_one_compilation():
     widths = jnp.linspace(0.2, 1.8, 9)
     # a batch of designs: every field batched (stack single designs leaf by leaf)
@@ -436,6 +438,7 @@ arc_length_one = jax.jit(lambda sub, p: project(sub, p).arc_length)
 arc_length_grad = jax.jit(jax.grad(lambda sub, p: project(sub, p).arc_length, argnums=1))
 
 
+@pytest.mark.slow
 @given(sub=_arc_length_gradient_cases(), x=st.floats(-5, 5), y=st.floats(-2, 1))
 def test_arc_gradient_is_the_derivative_of_the_arc_length(sub, x, y):
     """Projection.arc_gradient (closed form) equals autodiff of the arc length, and central

@@ -134,6 +134,7 @@ def test_timed_extraction_gives_the_time_derivative_of_the_same_linearisation():
     np.testing.assert_array_equal(banded.to_scipy(J0, topo).toarray(), dense)
 
 
+@pytest.mark.slow
 def test_predictor_is_newtons_first_iteration():
     """From the root at t0 the predictor alone solves the drifting arctan at t1 (one
     iteration, no correction); plain Newton from the same start needs several."""
@@ -181,6 +182,7 @@ def _two_laws(q, freeze=False):
     return jnp.arctan(q - c), jnp.asarray(1.0)
 
 
+@pytest.mark.slow
 def test_frozen_iterations_never_end_newton_on_the_frozen_root():
     topo = cantilever().topology
     q0 = jnp.full(topo.n_red, 1.9)

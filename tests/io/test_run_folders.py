@@ -59,6 +59,7 @@ def _tree(root: Path) -> dict[str, bytes]:
     }
 
 
+@pytest.mark.slow
 def test_two_runs_into_one_folder_at_once_never_mix(tmp_path):
     """Both start together: one writes the folder, the other is refused at once (exit 2,
     one line) and the folder's configuration and results belong to the same run."""
