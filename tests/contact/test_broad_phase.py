@@ -132,6 +132,7 @@ def test_active_must_be_a_positive_whole_number(active):
         SubstrateContact((0, 1), active=active)
 
 
+@pytest.mark.slow
 def test_profile_top_is_the_highest_surface_point():
     sub = SAW
     xs = jnp.linspace(-3.0, 3.0, 6001)

@@ -52,6 +52,7 @@ def _strip(angle, side):
     return (*_outline(axis, nrm), axis, e, nrm)
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(
     angle=st.floats(-math.pi, math.pi),

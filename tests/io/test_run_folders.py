@@ -99,6 +99,7 @@ def test_a_killed_run_leaves_no_folder_and_does_not_block_the_rerun(tmp_path, ru
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
 
 
+@pytest.mark.slow
 def test_ctrl_c_during_the_solve_says_nothing_was_written(tmp_path):
     proc = _cli("reduced", "--cycles", "400", "--no-figures", "--out", "o", cwd=tmp_path)
     try:
