@@ -59,19 +59,45 @@ def run_cli(capsys):
     return run
 
 
+#: A test process holding more than this (MB resident, ``BRISTLECRAWLER_TEST_KEEP_MB``) drops
+#: its compiled programs after a module; below it, they stay loaded for the next modules.
+KEEP_PROGRAMS_MB = float(os.environ.get("BRISTLECRAWLER_TEST_KEEP_MB", "3000"))
+_memory = {"modules": 0, "cleared": 0, "peak_mb": 0.0}
+
+
+def _resident_mb() -> float:
+    """This process's resident memory (MB); infinite where /proc cannot tell (then the
+    programs are always dropped)."""
+    try:
+        with open("/proc/self/status") as f:
+            line = next(x for x in f if x.startswith("VmRSS:"))
+        return float(line.split()[1]) / 1024.0
+    except (OSError, StopIteration, ValueError, IndexError):
+        return float("inf")
+
+
 @pytest.fixture(autouse=True, scope="module")
 def _free_compiled_programs():
-    """Drop JAX's compiled programs after each test module. The suite compiles hundreds of
-    programs (the FE crawler's step is 8 MB of machine code); kept for the whole process
-    they grew its memory until XLA aborted in a later compile (twice, in tests/fe). The
-    stored programs stay on disk for the next module."""
+    """Drop JAX's compiled programs after a test module once the process holds more than
+    :data:`KEEP_PROGRAMS_MB`. The full suite compiles hundreds of programs (the FE
+    crawler's step is 8 MB of machine code); kept for the whole process they grew its
+    memory until XLA aborted in a later compile (twice, in tests/fe). Below the bound the
+    programs stay loaded, so that the next modules that use the same kernels or the same
+    shared structure (tests/structures.py) neither compile nor load them again. The stored
+    programs stay on disk either way."""
     yield
+    mb = _resident_mb()
+    _memory["modules"] += 1
+    _memory["peak_mb"] = max(_memory["peak_mb"], mb if mb != float("inf") else 0.0)
+    if mb <= KEEP_PROGRAMS_MB:
+        return
     import jax
 
     from bristlecrawler.fe.programs import clear_loaded
 
     jax.clear_caches()
     clear_loaded()
+    _memory["cleared"] += 1
 
 
 #: A test that takes longer than this (s, setup and teardown included) belongs in the slow
@@ -88,6 +114,12 @@ def pytest_runtest_logreport(report):
 
 
 def pytest_terminal_summary(terminalreporter):
+    if _memory["modules"]:
+        terminalreporter.write_line(
+            f"compiled programs: dropped after {_memory['cleared']} of {_memory['modules']} "
+            f"modules (bound {KEEP_PROGRAMS_MB:.0f} MB resident); largest resident memory "
+            f"after a module {_memory['peak_mb']:.0f} MB"
+        )
     slow = sorted(((t, n) for n, t in _unmarked_slow.items() if t > SLOW_TEST_S), reverse=True)
     if slow:
         terminalreporter.section("unmarked tests over 10 s (mark them slow)")

@@ -106,6 +106,7 @@ def test_broad_phase_gives_the_full_residual_and_tangent(seed, n_pressed, active
         assert float(jnp.max(jnp.abs(J_broad - J_full))) <= 1e-12 * jscale
 
 
+@pytest.mark.slow
 def test_a_disc_whose_centre_clears_the_top_but_whose_rim_does_not_is_kept():
     # Points 0..2 are discs of radius 0.1 with their centres 0.05 mm above the lands: they
     # touch, and points 3.. (no radius) are 0.02 mm above the lands. The broad phase must
@@ -131,6 +132,7 @@ def test_active_must_be_a_positive_whole_number(active):
         SubstrateContact((0, 1), active=active)
 
 
+@pytest.mark.slow
 def test_profile_top_is_the_highest_surface_point():
     sub = SAW
     xs = jnp.linspace(-3.0, 3.0, 6001)

@@ -52,6 +52,7 @@ def _strip(angle, side):
     return (*_outline(axis, nrm), axis, e, nrm)
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(
     angle=st.floats(-math.pi, math.pi),
@@ -80,6 +81,7 @@ def test_gap_to_a_straight_face_is_the_distance_to_its_line(angle, t, d, rho, si
         assert float(g) == pytest.approx(-to_end - rho, abs=1e-12)
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(angle=st.floats(-math.pi, math.pi), r=st.floats(0.01, 2.0), phi=st.floats(-1.5, 1.5))
 def test_corner_beyond_the_end_of_a_strip_is_outside(angle, r, phi):
@@ -107,6 +109,7 @@ def _bent_strip():
     return (*_outline(axis, nrm), nrm)
 
 
+@pytest.mark.slow
 def test_gap_and_arc_are_continuous_around_a_bent_outline():
     """A corner moved along a path past the vertices of a bent (kinked) strip, in contact
     depth: gap and arc coordinate change by at most a few times the path step between
@@ -128,6 +131,7 @@ def test_gap_and_arc_are_continuous_around_a_bent_outline():
         assert np.all(np.diff(s) > 0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("depth", [-0.01, -1e-4])
 def test_gap_gradient_is_continuous_across_an_outline_vertex(depth):
     """The gap's derivative with respect to the outline points (the normal force's

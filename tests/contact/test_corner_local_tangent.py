@@ -171,6 +171,7 @@ def _check_state(pr, u, h, p, freeze) -> bool:
     return bool(np.abs(r_all).max() > 0)
 
 
+@pytest.mark.slow
 def test_local_tangent_on_thirty_states_covers_every_feature_and_status():
     """The same check on 30 seeded states, and what they cover: closed pairs on a face
     segment and on a sharp vertex of the tip, in stick and in slip of both signs, with the
@@ -207,6 +208,7 @@ def test_local_tangent_on_thirty_states_covers_every_feature_and_status():
     assert {fr for *_, fr in seen} == {True, False}
 
 
+@pytest.mark.slow
 def test_local_tangent_lacks_the_stretch_of_segments_beyond_its_window():
     """The documented limit: a pair whose stick anchor lies more than a segment away from
     its closest point (possible only with a stick band wider than a segment: here k_t is

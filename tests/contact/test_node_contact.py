@@ -31,6 +31,7 @@ pot_grad = jax.jit(jax.grad(node_potential))
 accept = jax.jit(node_step)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("x", "anchor"),
     [
@@ -65,6 +66,7 @@ def test_node_force_and_tangent_by_autodiff(x, anchor):
     np.testing.assert_allclose(pot_grad(x, anchor, sub, LAW), f, rtol=1e-10, atol=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("corner", ["land edge", "groove foot"])
 @pytest.mark.parametrize("slide", [1e-7, 0.05])
 def test_tangent_on_a_fillet_arc_matches_finite_differences(corner, slide):

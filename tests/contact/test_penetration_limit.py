@@ -36,6 +36,7 @@ def _pressed_mass():
     return m, fe.initial_state(m)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("limit", [math.inf, 4e-3])
 def test_steps_below_the_limit_are_accepted(limit):
     m, s0 = _pressed_mass()
@@ -47,6 +48,7 @@ def test_steps_below_the_limit_are_accepted(limit):
     assert float(m.terms[0].penetration(hist, m.params.extra[0])) == pytest.approx(depth, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_a_step_deeper_than_the_limit_is_rejected():
     m, s0 = _pressed_mass()
     ig = fe.Integrator.hht(max_penetration=1e-3)  # half the equilibrium depth

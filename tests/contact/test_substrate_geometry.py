@@ -172,6 +172,7 @@ def test_offset_along_normal_projects_back(gr, u, frac):
         np.testing.assert_allclose(fd, n, atol=1e-6)
 
 
+@pytest.mark.slow
 @given(gr=_groove_params(), x=st.floats(-10, 10), y=st.floats(-2, 1))
 def test_closest_point_on_surface_and_gradient_is_normal(gr, x, y):
     p = jnp.array([x, y])
@@ -297,6 +298,7 @@ def _brute_force_gap(points, p, period):
     return -d if inside else d
 
 
+@pytest.mark.slow
 @given(
     pitch=st.floats(0.5, 3.0),
     height=st.floats(0.1, 1.0),
@@ -312,6 +314,7 @@ def test_sawtooth_matches_brute_force(pitch, height, f, x, y):
     assert g == pytest.approx(ref, abs=2e-3 * pitch)
 
 
+@pytest.mark.slow
 def test_polyline_with_vertical_walls_matches_grooves():
     # A polyline describing the paper's grooves gives the same answer as Grooves.
     poly = Polyline(points=[[-0.5, 0], [0, 0], [0, -0.25], [1, -0.25], [1, 0], [1.5, 0]])
@@ -322,6 +325,7 @@ def test_polyline_with_vertical_walls_matches_grooves():
     np.testing.assert_allclose(a.point, b.point, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_vmap_over_designs_and_one_compilation():
     widths = jnp.linspace(0.2, 1.8, 9)
     # a batch of designs: every field batched (stack single designs leaf by leaf)
@@ -362,6 +366,7 @@ def _turns(n):
     return np.arccos(np.clip(np.sum(n[1:] * n[:-1], axis=1), -1.0, 1.0))
 
 
+@pytest.mark.slow
 def test_a_filleted_edge_turns_the_normal_continuously_inside_the_solid():
     # A point pressed into the solid near a land edge (penetration ~1e-3 mm in the crawler):
     # with a fillet r >> depth its normal turns smoothly as it moves round the edge, by at
@@ -378,6 +383,7 @@ def test_a_filleted_edge_turns_the_normal_continuously_inside_the_solid():
     np.testing.assert_allclose(n[-1], [1.0, 0.0], atol=1e-12)  # wall, facing the groove
 
 
+@pytest.mark.slow
 def test_a_sharp_edge_flips_the_normal_on_its_bisector():
     # The documented reason for the scenarios' fillet: at a sharp edge the closest point of
     # a penetrating point jumps from the land top to the wall on the bisector, so a point
@@ -412,6 +418,7 @@ def _full_ranking(gr, p):
     return jnp.concatenate(dist), jnp.concatenate(clamped), P._distances(c, p, m)
 
 
+@pytest.mark.slow
 @given(gr=_groove_params(), x=st.floats(-5, 5), y=st.floats(-2, 1))
 def test_ranking_distances_equal_the_full_evaluation(gr, x, y):
     """The winner is chosen from distances computed by a cone test (no angles): they equal
@@ -436,6 +443,7 @@ arc_length_one = jax.jit(lambda sub, p: project(sub, p).arc_length)
 arc_length_grad = jax.jit(jax.grad(lambda sub, p: project(sub, p).arc_length, argnums=1))
 
 
+@pytest.mark.slow
 @given(sub=_arc_length_gradient_cases(), x=st.floats(-5, 5), y=st.floats(-2, 1))
 def test_arc_gradient_is_the_derivative_of_the_arc_length(sub, x, y):
     """Projection.arc_gradient (closed form) equals autodiff of the arc length, and central

@@ -1,7 +1,8 @@
 """Designs of one structure in one compiled program (:func:`crawler.run_batch`).
 
-A short, coarse version of the paper's run (4 elements per bristle, contact at the tips,
-a 1 mm stroke in 0.4 s): each design of a batch must take the steps of its single run.
+The shared coarse structure (``tests/structures.py``: 4 elements per bristle, contact at the
+tips, a 0.8 mm stroke in 0.4 s): each design of a batch must take the steps of its single
+run, and the single runs share their compiled programs with the other coarse runs.
 """
 
 import dataclasses
@@ -12,24 +13,13 @@ import pytest
 
 from bristlecrawler.crawler import RunOptions, group, run, run_batch
 from bristlecrawler.errors import InputError, SolverError
-from bristlecrawler.scenario.convert import to_spec
-from bristlecrawler.scenario.load import apply_overrides, load_scenario
-
-SHORT = [
-    "bristle.elements=4",
-    "contact.nodes='tip'",
-    "contact.surface=false",
-    "contact.corners=false",
-    "actuation.s_max=1.0",
-    "actuation.period=0.4",
-    "actuation.cycles=1",
-    "actuation.settle_time=0.2",
-]
+from bristlecrawler.scenario.load import load_scenario
+from structures import COARSE, coarse_spec
 
 
 @functools.cache
 def base():
-    return to_spec(apply_overrides(load_scenario("paper"), SHORT))
+    return coarse_spec("paper")
 
 
 def design(alpha_deg=45.0, mu=0.65):
@@ -76,6 +66,7 @@ def test_an_unknown_way_of_making_the_trials_is_refused():
         RunOptions(batch_trials="lazy")
 
 
+@pytest.mark.slow
 def test_the_batch_counts_its_iterations_against_its_designs():
     """Each iteration of the batched loop is at most one Newton iteration of each design:
     the batch cannot take fewer iterations than its longest design, and its utilisation
@@ -90,6 +81,7 @@ def test_the_batch_counts_its_iterations_against_its_designs():
         assert s[f"{key}_wall_time_s"] >= 0.0
 
 
+@pytest.mark.slow
 def test_a_failing_design_is_reported_while_the_others_finish():
     """A design whose step cannot be cut far enough (dt_min = 0.02 s) fails with its
     single run's message; the other design, beside it and a masked padding slot (width
@@ -135,6 +127,7 @@ def test_designs_are_grouped_by_structure():
     assert group([a, b, tilted, a, b], 2) == [[0, 2], [3], [1, 4]]
 
 
+@pytest.mark.slow
 def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
     """The sweep's batch task (the same program: width 3, one structure): outputs per
     design, a failed design a value with its message."""
@@ -142,12 +135,12 @@ def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
     from bristlecrawler.studies.execute import fe_batch_task
 
     base_config = load_scenario("paper").model_dump(mode="json")
-    short = {k: v.strip("'") for k, v in (s.split("=") for s in SHORT)}
+    short = {k: v.strip("'") for k, v in (s.split("=") for s in COARSE)}
     short = {k: {"true": True, "false": False}.get(v, v) for k, v in short.items()}
     numbers = {
         k: int(v) if v.isdigit() else float(v)
         for k, v in short.items()
-        if k.startswith("actuation")
+        if k.startswith(("actuation", "solver"))
     }
     short = short | numbers | {"bristle.elements": 4}
     designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"substrate.mu": 0.3}]

@@ -11,13 +11,13 @@ from bristlecrawler.crawler import CrawlerSpec
 from bristlecrawler.crawler.drag import DragTest, build_drag, drag_test, quasi_static_ratio
 from bristlecrawler.errors import InputError
 from bristlecrawler.verification.references import inclined_horizontal_stiffness
+from structures import drag_rig
 
 PAPER = CrawlerSpec.paper()
 
 
 def _coarse(spec, **contact):
-    c = dataclasses.replace(spec.contact, nodes="tip", corners=False, **contact)
-    return dataclasses.replace(spec.replace_bristles(elements=6), contact=c)
+    return drag_rig(spec, **contact)
 
 
 @functools.cache
@@ -52,6 +52,7 @@ def test_sliding_on_a_flat_plane_takes_mu_times_the_normal_load():
     assert r.sliding(+1).mean == pytest.approx(2.0 * weight, rel=1e-2)
 
 
+@pytest.mark.slow
 def test_the_first_loading_slope_is_the_bristles_closed_form_stiffness():
     """Tip held by friction, carriage free vertically under a constant load: the slope is
     1 / C_xx of the tapered cantilever (axial and bending compliance, no shear). The FE
@@ -156,6 +157,7 @@ def test_a_linear_spring_with_a_directional_law_gives_back_its_k_fp_and_fn():
     assert s["k_initial_N_per_mm"] == pytest.approx(0.8, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_on_a_flat_plane_the_secant_stiffness_is_the_beams_too():
     """A bristle that sticks until mu N on a flat plane is a linear spring up to its slip:
     the travel to build the sliding force gives the tapered cantilever's stiffness as

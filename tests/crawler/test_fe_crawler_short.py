@@ -3,8 +3,9 @@
 Vertical bristles (alpha = 0) on a substrate placed symmetrically about the crawler's
 mid-plane (lands centred under both tips and under x = L/2): the whole problem is mirror
 symmetric, so the two ends must move by opposite amounts and the crawler cannot advance.
-4 elements per bristle, contact at the tips (axis points; no corner term, which its own tests
-cover), a 0.8 mm stroke in 0.4 s: the same code path as
+The shared coarse structure (``tests/structures.py``: 4 elements per bristle, contact at the
+tips' axis points, no corner term, which its own tests cover, a 0.8 mm stroke in 0.4 s):
+the same code path as
 `bristlecrawler simulate` (build, gravity step, modal damping,
 compiled adaptive driver, observer, history) at a fraction of the cost.
 """
@@ -16,32 +17,29 @@ import pytest
 
 from bristlecrawler.crawler import run as run_crawler
 from bristlecrawler.scenario.convert import to_spec
-from bristlecrawler.scenario.load import apply_overrides, load_scenario
+from bristlecrawler.scenario.load import apply_overrides
+from structures import MIRROR, coarse_run
 
 
 @functools.cache
 def _run(freeze: int):
+    """The shared coarse crawler made mirror symmetric (``paper-vertical``'s values, lands
+    centred under both tips); ``solver.freeze_iterations`` is part of the compiled step,
+    so a frozen start is a structure of its own (slow lane)."""
+    if freeze == 0:
+        return coarse_run("paper-vertical", *MIRROR)
     sc = apply_overrides(
-        load_scenario("paper-vertical"),
-        [
-            "bristle.elements=4",
-            "contact.nodes='tip'",
-            "contact.surface=false",
-            "contact.corners=false",
-            "substrate.phase=0.5",  # grooves [0.5, 1.5] + 2k: lands centred on 0, 50, 100
-            "actuation.s_max=0.8",  # each tip moves < 0.5 mm: it stays on its land
-            "actuation.period=0.4",
-            "actuation.cycles=1",
-            "actuation.settle_time=0.2",
-            "solver.energy_loss_tol=1e-2",  # both sides of the step energy check
-            f"solver.freeze_iterations={freeze}",
-        ],
+        coarse_run("paper-vertical", *MIRROR)[0], [f"solver.freeze_iterations={freeze}"]
     )
     return sc, run_crawler(to_spec(sc))
 
 
 # Newton with and without the frozen-status start (solver.freeze_iterations).
-@pytest.fixture(scope="module", params=[0, 3], ids=["free", "frozen-start"])
+@pytest.fixture(
+    scope="module",
+    params=[0, pytest.param(3, marks=pytest.mark.slow)],
+    ids=["free", "frozen-start"],
+)
 def run(request):
     return _run(request.param)
 

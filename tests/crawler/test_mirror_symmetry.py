@@ -114,6 +114,7 @@ def test_the_cases_load_both_terms_in_stick_and_in_slip():
     assert all({STICK, SLIP} <= seen for seen in states)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("shift, drop, seed", CASES)
 def test_forces_commute_with_the_mirror(shift, drop, seed):
     _, perm, _ = _crawler()

@@ -96,12 +96,9 @@ def _three():
     """A short, coarse three-bristle run (the example's code path), held at rest for half a
     second after its stroke."""
     from bristlecrawler.crawler import DEFAULT_STAGES, Hold
+    from structures import three_bristles
 
-    ex = _example()
-    spec = dataclasses.replace(
-        _coarse(PAPER, 6), actuation=Actuation(s_max=6.0, period=4.0, cycles=1)
-    )
-    return ex.compare(3, spec, stages=(*DEFAULT_STAGES, Hold(0.5)))
+    return _example().compare(3, three_bristles(), stages=(*DEFAULT_STAGES, Hold(0.5)))
 
 
 @pytest.mark.slow
@@ -120,6 +117,7 @@ def test_three_bristles_advance_and_every_segment_does_work():
     assert works[1] > 0.2 * works.sum()
 
 
+@pytest.mark.slow
 def test_a_hold_after_the_stroke_records_a_crawler_at_rest():
     """A user stage after the stroke: with the actuators at rest no work is done and the
     crawler, standing on its bristles, stays where it is."""

@@ -48,6 +48,7 @@ def test_the_gait_does_not_depend_on_a_small_stick_drift():
     assert paper == pytest.approx(fine, rel=5e-3)
 
 
+@pytest.mark.slow
 def test_an_elastic_slip_comparable_to_the_motion_changes_it():
     fine, coarse = _advance(1e-4), _advance(0.1)
     assert abs(coarse - fine) > 0.1 * fine

@@ -58,6 +58,7 @@ def test_netcdf_example_reads_back_the_run(run_scenario):
     assert n["frames"] >= 2
 
 
+@pytest.mark.slow
 def test_custom_figure_example_writes_a_png():
     ex = load("fe_custom_figure")
     assert ex.figure_path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -66,6 +67,7 @@ def test_custom_figure_example_writes_a_png():
     assert all(math.isfinite(v) for v in ex.result.values())
 
 
+@pytest.mark.slow
 def test_texture_example_the_pitch_reaches_the_model():
     ex = load("fe_texture_pitch")
     adv = np.array([ex.advance_mm[p] for p in ex.PITCHES_MM])

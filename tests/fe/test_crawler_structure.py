@@ -94,6 +94,7 @@ def test_topology_is_bordered(model):
     assert topo.bs <= 6
 
 
+@pytest.mark.slow
 def test_banded_jacobian_matches_dense(model):
     m, _ = model
     topo = m.topology

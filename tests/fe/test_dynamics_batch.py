@@ -68,6 +68,7 @@ def test_vmap_step_matches_individual_runs(model):
     assert np.allclose(np.asarray(sstack.u), np.stack(singles), rtol=1e-10, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_mass_damping_dissipates_and_undamped_conserves(model):
     s0 = _released(model)
     T1 = 2 * np.pi / W1
@@ -83,6 +84,7 @@ def test_mass_damping_dissipates_and_undamped_conserves(model):
     assert energy(damped, model)["total"] < np.exp(-2.5) * E0
 
 
+@pytest.mark.slow
 def test_stiffness_damping_takes_its_modal_ratio(model):
     """Stiffness-proportional Rayleigh damping (a1 = 2 zeta / w1, a0 = 0), the branch of
     :func:`assembly.internal_and_damping_force` that takes the K v product: the first
@@ -157,6 +159,7 @@ def test_structure_refuses_a1_without_stiffness_damping():
     assert s.build().topology.stiffness_damping
 
 
+@pytest.mark.slow
 def test_failure_is_a_status_and_throw_raises(model):
     s0 = _released(model)
     bad = model.with_params(sec=model.params.sec.at[3, 0].set(jnp.nan))  # E = NaN

@@ -45,6 +45,7 @@ def test_monotone_line_search_converges_where_full_steps_diverge(target):
     np.testing.assert_allclose(np.asarray(q), target, atol=1e-10)
 
 
+@pytest.mark.slow
 def test_monotone_line_search_keeps_full_steps_near_the_root():
     """Where full Newton converges, the monotone search takes the same (full) steps."""
     a = _solve(False, 0.5)
@@ -71,6 +72,7 @@ def _rootless(stall, q0=0.5):
     return newton(residual, q, topo, rtol=1e-12, atol=0.0, max_iter=40, stall=stall)
 
 
+@pytest.mark.slow
 def test_stall_stops_newton_early_with_its_own_status():
     _, it, _, _, status = _rootless(0)
     assert int(status) == MAX_ITERATIONS and int(it) == 40
@@ -79,6 +81,7 @@ def test_stall_stops_newton_early_with_its_own_status():
     assert 4 <= int(it) < 40
 
 
+@pytest.mark.slow
 def test_stall_leaves_a_converging_newton_alone():
     """Quadratic convergence halves the residual every iteration: the same iterates."""
     topo = cantilever().topology
@@ -115,6 +118,7 @@ def _drifting(q, tc, c=1.2):
     return jnp.arctan(q - c * tc), jnp.asarray(1.0)
 
 
+@pytest.mark.slow
 def test_timed_extraction_gives_the_time_derivative_of_the_same_linearisation():
     import jax
 
@@ -134,6 +138,7 @@ def test_timed_extraction_gives_the_time_derivative_of_the_same_linearisation():
     np.testing.assert_array_equal(banded.to_scipy(J0, topo).toarray(), dense)
 
 
+@pytest.mark.slow
 def test_predictor_is_newtons_first_iteration():
     """From the root at t0 the predictor alone solves the drifting arctan at t1 (one
     iteration, no correction); plain Newton from the same start needs several."""
@@ -181,6 +186,7 @@ def _two_laws(q, freeze=False):
     return jnp.arctan(q - c), jnp.asarray(1.0)
 
 
+@pytest.mark.slow
 def test_frozen_iterations_never_end_newton_on_the_frozen_root():
     topo = cantilever().topology
     q0 = jnp.full(topo.n_red, 1.9)
@@ -228,6 +234,7 @@ def _linear(topo, translation, rotation):
     return residual, target
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("move", "cap", "expected"), [(1.0, 0.3, 4), (1.0, 0.25, 4), (1.0, 0.1, 10), (0.2, 0.3, 1)]
 )
@@ -247,6 +254,7 @@ def test_max_move_caps_each_correction_of_the_translations(move, cap, expected):
     assert int(status) == SUCCESS and int(it) == 1
 
 
+@pytest.mark.slow
 def test_max_move_leaves_rotations_alone():
     """Rotations (rad) do not count against the cap (mm): a correction that turns every
     node by 1 rad and moves none is taken whole, as without the cap."""

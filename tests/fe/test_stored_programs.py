@@ -108,6 +108,7 @@ def test_digest_is_the_same_in_another_process():
     assert other.stdout.strip() == digest({"a": (1.5, "x", None), "b": np.arange(3.0)})
 
 
+@pytest.mark.slow
 def test_a_second_process_loads_the_program_and_gets_the_same_numbers(tmp_path):
     first, _ = _run(tmp_path)
     entries = list((tmp_path / "programs").glob("*.bin"))
@@ -142,6 +143,7 @@ WITH_XLA_CACHE = textwrap.dedent(
 )
 
 
+@pytest.mark.slow
 def test_a_program_in_jax_s_cache_is_stored_compiled_afresh(tmp_path):
     """A program that JAX's persistent cache already holds: the stored program is compiled
     again rather than taken from that cache (an executable read from it serialises
@@ -162,6 +164,7 @@ def test_a_program_in_jax_s_cache_is_stored_compiled_afresh(tmp_path):
     assert run() == first  # loads the stored program and calls it
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("damage", ["truncate", "garbage", "flip"])
 def test_a_damaged_entry_is_rebuilt_not_used(tmp_path, damage):
     first, _ = _run(tmp_path)

@@ -59,6 +59,7 @@ def _tree(root: Path) -> dict[str, bytes]:
     }
 
 
+@pytest.mark.slow
 def test_two_runs_into_one_folder_at_once_never_mix(tmp_path):
     """Both start together: one writes the folder, the other is refused at once (exit 2,
     one line) and the folder's configuration and results belong to the same run."""
@@ -98,6 +99,7 @@ def test_a_killed_run_leaves_no_folder_and_does_not_block_the_rerun(tmp_path, ru
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
 
 
+@pytest.mark.slow
 def test_ctrl_c_during_the_solve_says_nothing_was_written(tmp_path):
     proc = _cli("reduced", "--cycles", "400", "--no-figures", "--out", "o", cwd=tmp_path)
     try:

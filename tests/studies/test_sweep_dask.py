@@ -49,6 +49,7 @@ def reference(scheduler, study, tmp_path_factory):
     return summary, out
 
 
+@pytest.mark.slow
 def test_a_sweep_on_a_running_scheduler_runs_every_design(reference):
     summary, out = reference
     assert summary["designs_total"] == summary["designs_done"] == 20
@@ -72,6 +73,7 @@ def test_a_sweep_on_a_running_scheduler_runs_every_design(reference):
     assert (out / "figures" / "net_advance_mm.png").stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_a_killed_sweep_resumes_to_the_uninterrupted_store(
     scheduler, study, reference, tmp_path, run_cli
 ):
@@ -128,6 +130,7 @@ def _die_always() -> dict:
     os._exit(1)
 
 
+@pytest.mark.slow
 def test_a_dead_worker_is_retried_and_designs_are_lost_only_when_retries_run_out(
     scheduler, tmp_path
 ):
