@@ -12,7 +12,6 @@ single run would raise; the others go on.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -218,8 +217,7 @@ def _compiled(run, args):
 
 class _BatchAdvance:
     """A stage of every live design (one that has not failed), in one batched program:
-    the gravity step (:class:`Settle`, with the energy check where a design's losses are
-    unbounded, to its end at once) or
+    the gravity step (:class:`Settle`, without the energy check, to its end at once) or
     the stroke (:class:`Stroke`, with it, in the chunks of simulated time its single run
     takes: the chunk ends cap the step, so other chunks would give other steps). The
     compiled loop starts a design's next chunk itself, and returns to the host only when a
@@ -274,11 +272,6 @@ class _BatchAdvance:
         t, t_end, chunk, dt_min, dt_max = self._inputs(stage, slots, real, check)
         t_stop = np.minimum(t + chunk, t_end)
         checked = np.full(self.width, check)
-        if not check:
-            # The gravity step bounds the energy a step creates (RunContext.energy_check);
-            # the batch's one compiled check bounds the losses too, so only a design
-            # without a bound on losses can take it here.
-            checked = np.array([math.isinf(ctxs[i].spec.solver.energy_loss_tol) for i in slots])
         active = real.copy()
         wall0, n_batch = time.perf_counter(), 0
         while active.any():
