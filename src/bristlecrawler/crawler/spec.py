@@ -433,23 +433,9 @@ class CrawlerSpec:
         if not (math.isfinite(self.gravity) and self.gravity >= 0):
             raise InputError(f"gravity must be a finite number >= 0 mm/s^2, got {self.gravity}")
         self._check_stroke()
-        self._check_support()
+        from bristlecrawler.crawler.support import check_support
 
-    def _check_support(self) -> None:
-        """Each bristle must carry its share of the weight on its tip (:mod:`.support`)."""
-        from bristlecrawler.crawler.support import support
-
-        weight = (self.body.mass + sum(b.mass for b in self.bristles)) * self.gravity
-        for i, b in enumerate(self.bristles):
-            st = support(b, weight / len(self.bristles))
-            if not st.carries:
-                raise InputError(
-                    f"bristles[{i}] cannot carry the body: at alpha_deg = {b.alpha_deg:g} its "
-                    f"clamp's lower corner stands {st.clearance_mm:.3g} mm above its tip, and "
-                    f"its share of the weight ({st.load_N:.3g} N) bends it down by at least "
-                    f"{st.sag_mm:.3g} mm (beam theory, tip held), so it would lie on its face "
-                    "with the crawler on its clamps; incline it less or make it stiffer"
-                )
+        check_support(self)
 
     def _check_positions(self) -> None:
         xs = [b.position for b in self.bristles]

@@ -21,6 +21,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from bristlecrawler.errors import InputError
+
 #: Timoshenko's shear coefficient of a rectangular section.
 _KAPPA = 5.0 / 6.0
 
@@ -72,3 +74,19 @@ def support(bristle, load: float) -> Support:
     held = cyy - cxy * cxy / cxx
     clearance = L * c - 0.5 * (h0 - h1) * s
     return Support(clearance_mm=clearance, load_N=load, sag_mm=load * held)
+
+
+def check_support(spec) -> None:
+    """Raise :class:`InputError` unless each bristle of ``spec`` (a ``CrawlerSpec``) carries
+    its share of the weight on its tip."""
+    weight = (spec.body.mass + sum(b.mass for b in spec.bristles)) * spec.gravity
+    for i, b in enumerate(spec.bristles):
+        st = support(b, weight / len(spec.bristles))
+        if not st.carries:
+            raise InputError(
+                f"bristles[{i}] cannot carry the body: at alpha_deg = {b.alpha_deg:g} its "
+                f"clamp's lower corner stands {st.clearance_mm:.3g} mm above its tip, and "
+                f"its share of the weight ({st.load_N:.3g} N) bends it down by at least "
+                f"{st.sag_mm:.3g} mm (beam theory, tip held), so it would lie on its face "
+                "with the crawler on its clamps; incline it less or make it stiffer"
+            )
