@@ -77,7 +77,9 @@ def best_of(fn, repeat: int):
 def static_case(n_elem: int) -> dict:
     m, nodes = build(n_elem)
     topo, p = m.topology, m.params
-    solver = make_static_solver(topo, m.terms, NewtonOptions(rtol=RTOL, max_iter=MAX_ITER))
+    solver = make_static_solver(
+        topo, m.terms, NewtonOptions(tolerance=RTOL, max_iterations=MAX_ITER)
+    )
     args = (jnp.zeros(topo.n_red), p, jnp.asarray(0.0), jnp.asarray(1.0), init_histories(m))
     compile_s, solve = compile_timed(solver, *args)
     wall, (q, _, info) = best_of(lambda: solve(*args), 5)

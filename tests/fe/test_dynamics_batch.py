@@ -24,7 +24,7 @@ from bristlecrawler.verification.cases import N_ELEM, cantilever
 # Same mesh and scheme as the verification's energy case: the compiled programs are shared
 # (its static solver, and its 100-step ``run_fixed`` scan: keep CHUNK and pass dt as a
 # Python float, since a numpy/strong-typed dt is another signature and another compile).
-SCHEME = Integrator.newmark(0.25, 0.5, rtol=1e-12)
+SCHEME = Integrator.newmark(0.25, 0.5, tolerance=1e-12)
 CHUNK = 100
 # First bending frequency (rad/s) of cantilever(): E = 1 MPa, b = 1 mm, h = 0.01 mm, rho = 1.
 W1 = 1.8751**2 * np.sqrt((1e-6 / 12) / 1e-2)  # sqrt(EI / rho A)
@@ -208,7 +208,7 @@ def test_compiled_driver_takes_the_steps_of_the_python_driver(model, host):
 
     m = Rayleigh(0.5, 0.0).apply(model)
     s0 = _released(m, 5.0)  # large preload: Newton needs more iterations early on
-    scheme = Integrator.hht(rtol=1e-12, max_iter=3)
+    scheme = Integrator.hht(tolerance=1e-12, max_iterations=3)
     ref = integrate(
         m,
         s0,
@@ -232,7 +232,7 @@ def test_compiled_driver_reports_a_step_it_cannot_cut(model, host):
     from bristlecrawler.fe.status import STEP_TOO_SMALL
 
     s0 = _released(model, 5.0)
-    scheme = Integrator.hht(rtol=1e-14, max_iter=1)
+    scheme = Integrator.hht(tolerance=1e-14, max_iterations=1)
     carry, rec, failed = _drive(model, s0, 10.0, 1.0, scheme, capacity=4, dt_min=0.1, host=host)
     assert failed
     assert int(carry.info.status) == STEP_TOO_SMALL
@@ -262,7 +262,7 @@ def test_driver_check_bounds_every_accepted_step(model, host):
 
     m = model
     s0 = _released(m, 5.0)  # tip deflection 0.81 mm, first period about 600 s
-    scheme = Integrator.hht(rtol=1e-12)
+    scheme = Integrator.hht(tolerance=1e-12)
     tol = 0.2 * float(jnp.linalg.norm(s0.u[-1, :2]))
     runs = {}
     for use_host in (host, not host):

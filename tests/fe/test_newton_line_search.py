@@ -32,7 +32,9 @@ def _solve(monotone, target):
         return jnp.arctan(q - target), jnp.asarray(1.0)
 
     q0 = jnp.zeros(topo.n_red)
-    return newton(residual, q0, topo, rtol=1e-12, atol=0.0, max_iter=40, monotone=monotone)
+    return newton(
+        residual, q0, topo, tolerance=1e-12, atol=0.0, max_iterations=40, monotone=monotone
+    )
 
 
 @pytest.mark.parametrize("target", [1.5, 2.0, 3.0])
@@ -69,7 +71,9 @@ def _rootless(stall, q0=0.5):
         return q**2 + 1.0, jnp.asarray(1.0)
 
     q = jnp.full(topo.n_red, q0)
-    return newton(residual, q, topo, rtol=1e-12, atol=0.0, max_iter=40, stall=stall)
+    return newton(
+        residual, q, topo, tolerance=1e-12, atol=0.0, max_iterations=40, stall_iterations=stall
+    )
 
 
 @pytest.mark.slow
@@ -90,8 +94,8 @@ def test_stall_leaves_a_converging_newton_alone():
         return jnp.arctan(q - 0.5), jnp.asarray(1.0)
 
     q0 = jnp.zeros(topo.n_red)
-    a = newton(residual, q0, topo, rtol=1e-12, atol=0.0, max_iter=40)
-    b = newton(residual, q0, topo, rtol=1e-12, atol=0.0, max_iter=40, stall=2)
+    a = newton(residual, q0, topo, tolerance=1e-12, atol=0.0, max_iterations=40)
+    b = newton(residual, q0, topo, tolerance=1e-12, atol=0.0, max_iterations=40, stall_iterations=2)
     assert int(a[4]) == int(b[4]) == SUCCESS
     assert int(a[1]) == int(b[1])
     np.testing.assert_array_equal(np.asarray(a[0]), np.asarray(b[0]))
@@ -104,12 +108,20 @@ def test_max_iter_below_one_is_refused():
     q0 = jnp.full(topo.n_red, 5.0)
     for bad in (0, -1, 2.5):
         with pytest.raises(InputError, match="max_iter"):
-            newton(_drifting, q0, topo, predict=(0.0, 1.0, 1.0), rtol=1e-9, atol=0.0, max_iter=bad)
+            newton(
+                _drifting,
+                q0,
+                topo,
+                predict=(0.0, 1.0, 1.0),
+                tolerance=1e-9,
+                atol=0.0,
+                max_iterations=bad,
+            )
 
 
 def test_negative_stall_is_refused():
     with pytest.raises(InputError, match="stall"):
-        Integrator.hht(stall=-1)
+        Integrator.hht(stall_iterations=-1)
 
 
 def _drifting(q, tc, c=1.2):
@@ -145,7 +157,7 @@ def test_predictor_is_newtons_first_iteration():
     topo = cantilever().topology
     t0, t1 = jnp.asarray(0.0), jnp.asarray(1.0)
     q0 = jnp.zeros(topo.n_red)  # root at t0
-    kw = dict(rtol=1e-12, atol=0.0, max_iter=40)
+    kw = dict(tolerance=1e-12, atol=0.0, max_iterations=40)
     q, it, _, _, status = newton(_drifting, q0, topo, predict=(t0, t1, t1 - t0), **kw)
     assert int(status) == SUCCESS and int(it) == 1
     np.testing.assert_allclose(np.asarray(q), 1.2, rtol=1e-14)
@@ -153,7 +165,7 @@ def test_predictor_is_newtons_first_iteration():
     assert int(status) == SUCCESS and int(it) >= 4
     # The predictor counts against max_iter, and is taken even when it is the last one.
     _, it, _, _, status = newton(
-        _drifting, q0, topo, predict=(t0, t1, t1 - t0), max_iter=1, rtol=1e-12, atol=0.0
+        _drifting, q0, topo, predict=(t0, t1, t1 - t0), max_iterations=1, tolerance=1e-12, atol=0.0
     )
     assert int(it) == 1 and int(status) == SUCCESS
 
@@ -173,7 +185,7 @@ def test_predictor_from_a_state_off_the_root_includes_its_residual():
     t0, t1 = jnp.asarray(0.4), jnp.asarray(0.9)
     q0 = jnp.linspace(-0.7, 1.3, topo.n_red)  # far from the root b t0 / a
     q, it, _, _, status = newton(
-        linear, q0, topo, predict=(t0, t1, t1 - t0), rtol=1e-12, atol=0.0, max_iter=5
+        linear, q0, topo, predict=(t0, t1, t1 - t0), tolerance=1e-12, atol=0.0, max_iterations=5
     )
     assert int(status) == SUCCESS and int(it) == 1
     np.testing.assert_allclose(np.asarray(q), np.asarray(b * t1 / a), rtol=1e-13)
@@ -190,8 +202,8 @@ def _two_laws(q, freeze=False):
 def test_frozen_iterations_never_end_newton_on_the_frozen_root():
     topo = cantilever().topology
     q0 = jnp.full(topo.n_red, 1.9)
-    kw = dict(rtol=1e-12, atol=0.0, max_iter=40, monotone=True)
-    q, it, _, _, status = newton(_two_laws, q0, topo, freeze=6, **kw)
+    kw = dict(tolerance=1e-12, atol=0.0, max_iterations=40, monotone=True)
+    q, it, _, _, status = newton(_two_laws, q0, topo, freeze_iterations=6, **kw)
     assert int(status) == SUCCESS
     # The free root, not the frozen one (both are within a monotone Newton's reach).
     np.testing.assert_allclose(np.asarray(q), 0.5, atol=1e-10)
@@ -210,7 +222,14 @@ def test_a_frozen_limit_of_one_iteration_still_converges_on_the_free_law():
     topo = cantilever().topology
     q0 = jnp.zeros(topo.n_red)
     q, _, _, _, status = newton(
-        _two_laws, q0, topo, rtol=1e-12, atol=0.0, max_iter=40, monotone=True, freeze=1
+        _two_laws,
+        q0,
+        topo,
+        tolerance=1e-12,
+        atol=0.0,
+        max_iterations=40,
+        monotone=True,
+        freeze_iterations=1,
     )
     assert int(status) == SUCCESS
     np.testing.assert_allclose(np.asarray(q), 0.5, atol=1e-10)
@@ -219,7 +238,7 @@ def test_a_frozen_limit_of_one_iteration_still_converges_on_the_free_law():
 @pytest.mark.parametrize("freeze", [-1, 12, 13])
 def test_freeze_outside_zero_to_max_iterations_is_refused(freeze):
     with pytest.raises(InputError, match="freeze"):
-        Integrator.hht(freeze=freeze, max_iter=12)
+        Integrator.hht(freeze_iterations=freeze, max_iterations=12)
 
 
 def _linear(topo, translation, rotation):
@@ -246,7 +265,7 @@ def test_max_move_caps_each_correction_of_the_translations(move, cap, expected):
     topo = cantilever().topology
     residual, target = _linear(topo, move, 0.0)
     q0 = jnp.zeros(topo.n_red)
-    kw = dict(rtol=1e-12, atol=0.0, max_iter=40, monotone=True)
+    kw = dict(tolerance=1e-12, atol=0.0, max_iterations=40, monotone=True)
     q, it, _, _, status = newton(residual, q0, topo, max_move=cap, **kw)
     assert int(status) == SUCCESS and int(it) == expected
     np.testing.assert_allclose(np.asarray(q), np.asarray(target), atol=1e-12)
@@ -261,7 +280,7 @@ def test_max_move_leaves_rotations_alone():
     topo = cantilever().topology
     residual, target = _linear(topo, 0.0, 1.0)
     q0 = jnp.zeros(topo.n_red)
-    kw = dict(rtol=1e-12, atol=0.0, max_iter=40, monotone=True)
+    kw = dict(tolerance=1e-12, atol=0.0, max_iterations=40, monotone=True)
     a = newton(residual, q0, topo, max_move=0.01, **kw)
     b = newton(residual, q0, topo, **kw)
     assert int(a[4]) == int(b[4]) == SUCCESS
@@ -278,7 +297,13 @@ def test_non_positive_max_correction_is_refused(cap):
     residual, _ = _linear(topo, 1.0, 0.0)
     with pytest.raises(InputError, match="max_correction"):
         newton(
-            residual, jnp.zeros(topo.n_red), topo, rtol=1e-12, atol=0.0, max_iter=4, max_move=cap
+            residual,
+            jnp.zeros(topo.n_red),
+            topo,
+            tolerance=1e-12,
+            atol=0.0,
+            max_iterations=4,
+            max_move=cap,
         )
 
 
@@ -302,7 +327,7 @@ def test_the_dynamic_step_caps_its_corrections():
     state = initial_state(m)
     runs = {}
     for cap in (math.inf, 0.01):
-        ig = Integrator.hht(predictor="constant", max_iter=100, max_correction=cap)
+        ig = Integrator.hht(predictor="constant", max_iterations=100, max_correction=cap)
         new, info = make_step(m.topology, m.terms, ig)(state, m.params, jnp.asarray(1.0))
         assert int(info.status) == SUCCESS
         runs[cap] = (jax.device_get(new.u), int(info.iterations))
@@ -334,7 +359,9 @@ def test_parallel_trials_give_the_sequential_line_search(target, monotone, cap, 
 
     q0 = jnp.zeros(topo.n_red)
     line_search = "monotone" if monotone else "growth"
-    opts = NewtonOptions(line_search=line_search, max_correction=cap, rtol=1e-12, max_iter=30)
+    opts = NewtonOptions(
+        line_search=line_search, max_correction=cap, tolerance=1e-12, max_iterations=30
+    )
     seq, par = (_newton(residual, q0, topo, opts, parallel=p) for p in (False, True))
     np.testing.assert_array_equal(np.asarray(seq[0]), np.asarray(par[0]))
     assert [int(x) for x in (seq[1], seq[4])] == [int(x) for x in (par[1], par[4])]

@@ -47,7 +47,7 @@ def carried():
 
 def _run(carried, predictor):
     m, _chain, s0 = carried
-    ig = Integrator.hht(predictor=predictor, max_iter=8)
+    ig = Integrator.hht(predictor=predictor, max_iterations=8)
     return run_fixed(m, s0, m.params, DT, STEPS, ig)
 
 

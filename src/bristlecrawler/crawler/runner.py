@@ -159,13 +159,12 @@ class RunContext:
         """The static arguments of the adaptive drivers for this crawler (topology, terms,
         integrator, observer, capacity, step control, energy check): equal for designs
         that share one compiled program."""
-        from bristlecrawler import fe
 
         sv = self.spec.solver
         ig = sv.integrator(self.spec.contact.max_penetration)
         energy = self.energy_check(losses=check)
         m = self.crawler.model
-        control = fe.StepControl(sv.grow, sv.easy_iterations)
+        control = sv.control
         obs = self.crawler.observer()
         return (m.topology, m.terms, ig, obs, self.options.capacity, control, energy)
 

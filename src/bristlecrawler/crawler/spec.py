@@ -19,6 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from bristlecrawler.crawler.solver import Solver
 from bristlecrawler.errors import InputError
 
 #: Largest inclination from the vertical a bristle may have, degrees.
@@ -278,79 +279,6 @@ class Actuation:
             raise InputError(f"actuation.gait must be breathing or peristaltic, got {self.gait!r}")
         if not (math.isfinite(self.lag) and self.lag >= 0):
             raise InputError(f"actuation.lag must be a finite number >= 0 s, got {self.lag}")
-
-
-@dataclass(frozen=True)
-class Solver:
-    """Implicit dynamics (HHT-alpha) with adaptive steps, and its Newton settings.
-
-    Attributes:
-        hht_alpha: HHT alpha in [-1/3, 0].
-        dt_max: largest time step, s.
-        dt_min: smallest time step before the run gives up, s.
-        tolerance: Newton tolerance on the relative residual, -.
-        max_iterations: Newton iterations per step attempt before the step is cut.
-        stall_iterations: cut a step whose Newton goes this many iterations without halving
-            its residual (0: off).
-        freeze_iterations: first Newton iterations of a step that keep the closed contact
-            points in their last converged stick/slip status (0: off).
-        line_search: "monotone" (halve a correction until the residual decreases) or
-            "growth" (only when it blows up).
-        predictor: "tangent" (the residual linearised in the stroke's increment) or
-            "constant" (the last converged state).
-        energy_tol: largest energy one step may create, mJ (inf: no control).
-        energy_loss_tol: largest energy one step may lose, mJ (inf: no control).
-        max_correction: largest nodal translation of a Newton correction's first trial, mm
-            (inf: off).
-        grow: a step grows by this factor after an easy one.
-        easy_iterations: a step that took at most this many Newton iterations is easy.
-    """
-
-    hht_alpha: float = -0.05
-    dt_max: float = 0.05
-    dt_min: float = 1e-6
-    tolerance: float = 1e-8
-    max_iterations: int = 25
-    stall_iterations: int = 0
-    freeze_iterations: int = 0
-    line_search: Literal["growth", "monotone"] = "monotone"
-    predictor: Literal["tangent", "constant"] = "tangent"
-    energy_tol: float = 1e-2
-    energy_loss_tol: float = 1e-2
-    max_correction: float = 0.05
-    grow: float = 1.5
-    easy_iterations: int = 4
-
-    def check(self) -> None:
-        if not -1.0 / 3.0 <= self.hht_alpha <= 0.0:
-            raise InputError(f"solver.hht_alpha must be in [-1/3, 0], got {self.hht_alpha}")
-        _positive("solver.dt_max", self.dt_max)
-        _positive("solver.dt_min", self.dt_min)
-        if self.dt_min >= self.dt_max:
-            raise InputError("solver.dt_min must be smaller than solver.dt_max")
-        if not self.freeze_iterations < self.max_iterations:
-            raise InputError(
-                f"solver.freeze_iterations ({self.freeze_iterations}) must be smaller than "
-                f"solver.max_iterations ({self.max_iterations})"
-            )
-        if not self.grow >= 1.0:
-            raise InputError(f"solver.grow must be >= 1, got {self.grow}")
-
-    def integrator(self, max_penetration: float):
-        """The :class:`fe.Integrator` of these settings."""
-        from bristlecrawler import fe
-
-        return fe.Integrator.hht(
-            self.hht_alpha,
-            rtol=self.tolerance,
-            max_iter=self.max_iterations,
-            stall=self.stall_iterations,
-            freeze=self.freeze_iterations,
-            line_search=self.line_search,
-            predictor=self.predictor,
-            max_penetration=max_penetration,
-            max_correction=self.max_correction,
-        )
 
 
 def _paper_substrate():

@@ -34,7 +34,8 @@ from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
-from bristlecrawler.fe.newton import NewtonOptions, newton_parts
+from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions, newton_parts
+from bristlecrawler.fe.options import compose
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     PENETRATION,
@@ -53,8 +54,6 @@ from bristlecrawler.fe.terms import (
     max_penetration,
 )
 
-_NEWTON = NewtonOptions()
-
 
 @pytree()
 class DynState:
@@ -71,12 +70,18 @@ class DynState:
 
 @dataclasses.dataclass(frozen=True)
 class Integrator:
-    """Time integration scheme and Newton settings (static: part of the compiled step).
+    """Time integration scheme and the Newton settings of its steps (static: part of the
+    compiled step).
 
-    Use :meth:`hht` (default alpha = -0.05) or :meth:`newmark`. rtol, atol: |R| <= rtol F +
-    atol with F the sum of the inertial, internal, damping and external force norms (N).
-    line_search: "growth" (halve a correction only when the residual blows up) or
-    "monotone" (halve it until the residual decreases; see :func:`newton.newton`).
+    Use :meth:`hht` (default alpha = -0.05) or :meth:`newmark`; either takes the Newton
+    settings as ``newton=NewtonOptions(...)`` or as keywords of the same names
+    (``Integrator.hht(tolerance=1e-12, max_iterations=8)``). Their meanings are
+    :class:`NewtonOptions`'s; in a step, the convergence test's force scale F is the sum
+    of the inertial, internal, damping and external force norms (N), ``stall_iterations``
+    and a failed line search cut the step, and ``freeze_iterations`` counts the
+    predictor. ``max_correction`` does not cap the predictor; with
+    ``predictor="constant"`` it caps the first correction.
+
     max_penetration: a converged step whose committed contact state has a penetration
     deeper than this (mm; terms that report one, see :mod:`terms`) is rejected with status
     PENETRATION, so an adaptive driver cuts it (default: no limit).
@@ -87,54 +92,51 @@ class Integrator:
     predictor: "tangent" (default) starts Newton from q0 + dq with J dq = -(R + dR/dt dt),
     the residual *linearised* in the step's change of the prescribed motions (supports,
     link stretches); "constant" starts from the last converged q. See :func:`make_step`.
-    stall: a step whose Newton goes this many iterations without halving its residual
-    fails with status STALLED, so an adaptive driver cuts it before ``max_iter`` (0: off;
-    see :func:`newton.newton`).
-    freeze: Newton's first ``freeze`` iterations of a step (the predictor included) keep
-    every closed contact point in the stick or slip status of the last converged step;
-    the later ones use the return mapping, and only they can converge (0: off; see
-    :func:`newton.newton`). Must be below ``max_iter``.
-    max_correction: largest translation among the unknowns (mm) of a Newton correction's
-    first trial; a larger correction is scaled down to it before the line search (inf:
-    off; see ``max_move`` in :func:`newton.newton`). The predictor is not capped; with
-    ``predictor="constant"`` the first correction is.
     """
 
     alpha: float = -0.05
     beta: float = 0.25 * 1.05**2
     gamma: float = 0.55
-    rtol: float = _NEWTON.rtol
-    atol: float = _NEWTON.atol
-    max_iter: int = _NEWTON.max_iter
-    line_search: str = _NEWTON.line_search
+    newton: NewtonOptions = DEFAULT_NEWTON
     predictor: str = "tangent"
     max_penetration: float = math.inf
     max_rotation: float = 1.0
-    stall: int = _NEWTON.stall
-    freeze: int = _NEWTON.freeze
-    max_correction: float = _NEWTON.max_correction
+
+    def __init__(
+        self,
+        alpha=-0.05,
+        beta=0.25 * 1.05**2,
+        gamma=0.55,
+        newton=None,
+        *,
+        predictor="tangent",
+        max_penetration=math.inf,
+        max_rotation=1.0,
+        **settings,
+    ):
+        newton = DEFAULT_NEWTON if newton is None else newton
+        newton = compose("Integrator", {"newton": newton}, settings)["newton"]
+        for name, value in (
+            ("alpha", alpha),
+            ("beta", beta),
+            ("gamma", gamma),
+            ("newton", newton),
+            ("predictor", predictor),
+            ("max_penetration", max_penetration),
+            ("max_rotation", max_rotation),
+        ):
+            object.__setattr__(self, name, value)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
-        self.newton  # noqa: B018  (checks the Newton settings)
+        if not isinstance(self.newton, NewtonOptions):
+            raise InputError(f"newton must be a NewtonOptions, got {self.newton!r}")
         if not self.max_rotation > 0.0:
             raise InputError(f"max_rotation must be > 0 rad, got {self.max_rotation}")
         if not self.max_penetration > 0.0:
             raise InputError(f"max_penetration must be > 0 mm, got {self.max_penetration}")
         if self.predictor not in ("tangent", "constant"):
             raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
-
-    @property
-    def newton(self) -> NewtonOptions:
-        """The Newton settings of each step, as the one options object :func:`newton` takes."""
-        return NewtonOptions(
-            rtol=self.rtol,
-            atol=self.atol,
-            max_iter=self.max_iter,
-            line_search=self.line_search,
-            stall=self.stall,
-            freeze=self.freeze,
-            max_correction=self.max_correction,
-        )
 
     @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> Integrator:

@@ -15,7 +15,7 @@ block-tridiagonal algorithm. Two line searches:
   scenarios use it (``[solver] line_search``).
 
 Robustness otherwise comes from the adaptive load and time steps.
-Converged when |R| <= rtol F + atol, F the force scale returned by the residual.
+Converged when |R| <= tolerance F + atol, F the force scale returned by the residual.
 """
 
 from __future__ import annotations
@@ -31,58 +31,79 @@ import numpy as np
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import banded
+from bristlecrawler.fe.options import renamed
 from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, STALLED, SUCCESS
 
 
+@renamed(
+    rtol="tolerance",
+    max_iter="max_iterations",
+    stall="stall_iterations",
+    freeze="freeze_iterations",
+)
 @dataclasses.dataclass(frozen=True)
 class NewtonOptions:
     """Settings of :func:`newton`, one object for the dynamic step (:class:`Integrator`),
-    the static solver (:class:`StaticOptions`) and the crawler's ``[solver]`` table. Static:
-    part of the compiled programs, so hashable.
+    the static solver (:class:`StaticOptions`) and the crawler's ``[solver]`` table, whose
+    keys have the same names. Static: part of the compiled programs, so hashable.
 
     Attributes:
-        rtol, atol: converged when |R| <= rtol F + atol (F the residual's force scale, N).
-        max_iter: iterations per solve.
+        tolerance, atol: converged when |R| <= tolerance F + atol (F the residual's force
+            scale, N).
+        max_iterations: iterations per solve.
         line_search: "growth" (halve only against blow-ups) or "monotone" (halve until the
             residual decreases).
-        stall: give up (status STALLED) once this many iterations pass without the residual
-            halving (0: off).
-        freeze: first iterations that keep the contact statuses frozen (0: off); < max_iter.
+        stall_iterations: give up (status STALLED) once this many iterations pass without
+            the residual halving (0: off).
+        freeze_iterations: first iterations that keep the contact statuses frozen (0: off);
+            < max_iterations.
         max_correction: largest translation (mm) of a correction's first trial (inf: off).
         xtol: converged when the last correction is below xtol max(|q|, size).
         max_backtracks: halvings of one correction.
         growth: the growth search's bound on |R_new| / |R|.
+
+    The names before (``rtol``, ``max_iter``, ``stall``, ``freeze``) still work, with a
+    DeprecationWarning.
     """
 
-    rtol: float = 1e-9
+    tolerance: float = 1e-9
     atol: float = 0.0
-    max_iter: int = 12
+    max_iterations: int = 12
     line_search: str = "growth"
-    stall: int = 0
-    freeze: int = 0
+    stall_iterations: int = 0
+    freeze_iterations: int = 0
     max_correction: float = math.inf
     xtol: float = 1e-13
     max_backtracks: int = 8
     growth: float = 1e6
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.max_iter, numbers.Integral) and self.max_iter >= 1):
+        n = self.max_iterations
+        if not (isinstance(n, numbers.Integral) and n >= 1):
             # Also required by the predictor: iteration 0 must run, since the start's
             # residual comes from its linearisation.
-            raise InputError(f"max_iter must be a whole number >= 1, got {self.max_iter!r}")
-        if not (isinstance(self.freeze, int) and 0 <= self.freeze < self.max_iter):
+            raise InputError(f"max_iterations must be a whole number >= 1, got {n!r}")
+        if not (isinstance(self.freeze_iterations, int) and 0 <= self.freeze_iterations < n):
             raise InputError(
-                f"freeze must be a whole number in [0, max_iter = {self.max_iter}), "
-                f"got {self.freeze!r}"
+                f"freeze_iterations must be a whole number in [0, max_iterations = {n}), "
+                f"got {self.freeze_iterations!r}"
             )
-        if not (isinstance(self.stall, int) and self.stall >= 0):
-            raise InputError(f"stall must be a whole number >= 0, got {self.stall!r}")
+        if not (isinstance(self.stall_iterations, int) and self.stall_iterations >= 0):
+            raise InputError(
+                f"stall_iterations must be a whole number >= 0, got {self.stall_iterations!r}"
+            )
         if self.line_search not in ("growth", "monotone"):
             raise InputError(
                 f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
             )
+        if not self.tolerance >= 0.0:  # also NaN
+            raise InputError(f"tolerance must be >= 0, got {self.tolerance}")
         if not self.max_correction > 0.0:  # also NaN
             raise InputError(f"max_correction must be > 0 mm, got {self.max_correction}")
+
+
+#: The defaults, as a default argument.
+DEFAULT_NEWTON = NewtonOptions()
 
 
 class _Iterate(NamedTuple):
@@ -117,7 +138,7 @@ def _line_search(res, q, dq, R, F, s0, pred, o: NewtonOptions, parallel=False):
     if o.line_search == "monotone":
         bound = jnp.linalg.norm(R)
     else:
-        bound = o.growth * jnp.maximum(jnp.linalg.norm(R), o.rtol * F)
+        bound = o.growth * jnp.maximum(jnp.linalg.norm(R), o.tolerance * F)
     floor = 0.5**o.max_backtracks  # smallest trial, a fraction of the whole correction
 
     def accepted(Rn):
@@ -154,7 +175,7 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
     size of the structure, mm): the iterate has stopped moving at round-off. The residual
     has a floor of about |K| eps |X| (stiffness times the float64 spacing of the node
     coordinates), which for a small load on a stiff member (the paper's bristle under
-    1e-4 N) is far above rtol F. The achieved |R|/F is reported either way.
+    1e-4 N) is far above tolerance F. The achieved |R|/F is reported either way.
 
     Each correction is halved (up to ``max_backtracks`` times) while the new residual is
     not finite or exceeds ``growth`` times the current one; with the ``monotone`` line
@@ -169,17 +190,17 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
     more than ``max_correction``; the halvings, if the trial fails, start from there and stop
     at the same floor, ``2**-max_backtracks`` of the whole correction. A fixed cap (a
     trust region of constant radius): after the predictor, Newton moves by at most
-    ``max_correction`` per iteration, so an attempt cannot travel further than ``max_iter``
-    times it. A contact residual is curved on the scale of its penalty (microns): a
-    correction that moved a bristle tip by millimetres, through the substrate, raised
+    ``max_correction`` per iteration, so an attempt cannot travel further than
+    ``max_iterations`` times it. A contact residual is curved on the scale of its penalty
+    (microns): a correction that moved a bristle tip by millimetres, through the substrate, raised
     |R| a thousandfold and took all eight halvings to find that even 1/256 of it does
     not decrease |R|; the cap reaches that scale in a few trials.
 
-    ``stall`` (0: off): give up, with status STALLED, once ``stall`` iterations
+    ``stall_iterations`` (0: off): give up, with status STALLED, once that many iterations
     have passed without the residual halving (below half the last residual that did).
     Newton on a contact event that the step is too long for cycles between contact
     states or creeps at |R|/F ~ 1e-2..1e-5 until the iteration limit; stopping early
-    lets the driver cut the step sooner. Off, ``max_iter`` is the only limit.
+    lets the driver cut the step sooner. Off, ``max_iterations`` is the only limit.
 
     ``predict = (t0, t1, dt)`` (a time step, ``dt = t1 - t0``): ``residual`` takes
     ``(q, tc)``, the time of the prescribed motions, and the equation solved is
@@ -189,11 +210,11 @@ def newton(residual, q0, topo, options: NewtonOptions, *, xscale=0.0, predict=No
     It runs in the same loop body as the corrections, so the compiled program holds one
     linearised residual, not two.
 
-    ``freeze`` (0: off): ``residual`` also takes a bool ``freeze`` (after ``tc``
+    ``freeze_iterations`` (0: off): ``residual`` also takes a bool ``freeze`` (after ``tc``
     when there is one). Newton starts with it True: a contact residual then keeps each
     closed point in the stick or slip status it was committed with (an active-set
     start). It turns False for good once that frozen problem has converged or
-    ``freeze`` iterations have passed; the iterate is then evaluated again with it
+    ``freeze_iterations`` iterations have passed; the iterate is then evaluated again with it
     False, and only such iterates can converge. A point whose status flips near the
     step's solution makes full Newton cycle between the branches (the stick band is far
     narrower than a correction); with the statuses frozen the first iterations solve a
@@ -237,10 +258,10 @@ def _tests(q0, xscale, o: NewtonOptions) -> _Tests:
     def converged(q, R, F, dx):
         qn = jnp.linalg.norm(q)
         still = (dx <= o.xtol * jnp.maximum(qn, xscale)) & (qn <= q_bound)
-        return (jnp.linalg.norm(R) <= o.rtol * F + o.atol) | still
+        return (jnp.linalg.norm(R) <= o.tolerance * F + o.atol) | still
 
     def stalled(it, it_ref):
-        return (it - it_ref >= o.stall) if o.stall > 0 else jnp.asarray(False)
+        return (it - it_ref >= o.stall_iterations) if o.stall_iterations > 0 else jnp.asarray(False)
 
     def done(q, R, F, dx, fz):
         return converged(q, R, F, dx) & ~fz
@@ -262,14 +283,14 @@ def newton_parts(
 
     def res_t(q, tc, fz):
         if predict is None:
-            return residual(q) if o.freeze == 0 else residual(q, freeze=fz)
-        return residual(q, tc) if o.freeze == 0 else residual(q, tc, fz)
+            return residual(q) if o.freeze_iterations == 0 else residual(q, freeze=fz)
+        return residual(q, tc) if o.freeze_iterations == 0 else residual(q, tc, fz)
 
     def first(it):
         return (it == 0) if predict is not None else jnp.asarray(False)
 
     if predict is None:
-        R0, F0 = res_t(q0, tc0, jnp.asarray(o.freeze > 0))
+        R0, F0 = res_t(q0, tc0, jnp.asarray(o.freeze_iterations > 0))
     else:
         # Iteration 0 (the predictor) always runs and takes the residual at q0 from its own
         # linearisation: no separate evaluation (one residual less per step).
@@ -284,7 +305,7 @@ def newton_parts(
         q, R, F, it, dx, _, it_ref, fz = c
         finite = jnp.all(jnp.isfinite(R)) & jnp.all(jnp.isfinite(q))
         solve = ~tests.done(q, R, F, dx, fz) & finite & ~tests.stalled(it, it_ref)
-        return (it < o.max_iter) & (first(it) | solve)
+        return (it < o.max_iterations) & (first(it) | solve)
 
     def body(c):
         q, R, F, it, _, ref, it_ref, fz = c
@@ -304,7 +325,7 @@ def newton_parts(
             s0 = jnp.where(pred | (move <= o.max_correction), 1.0, o.max_correction / move)
         s, Rn, Fn = _line_search(lambda x: res_t(x, tc1, fz), q, dq, R, F, s0, pred, o, parallel)
         rn = jnp.linalg.norm(Rn)
-        if o.stall > 0:  # static: no bookkeeping in the loop when off
+        if o.stall_iterations > 0:  # static: no bookkeeping in the loop when off
             halved = rn <= 0.5 * ref
             ref, it_ref = jnp.where(halved, rn, ref), jnp.where(halved, it + 1, it_ref)
         # After the predictor: the corrections start afresh (no stalled-iterate test on
@@ -312,7 +333,7 @@ def newton_parts(
         dx = jnp.where(pred, jnp.inf, jnp.linalg.norm(s * dq))
         ref, it_ref = jnp.where(pred, rn, ref), jnp.where(pred, it + 1, it_ref)
         nxt = _Iterate(q + s * dq, Rn, Fn, it + 1, dx, ref, it_ref, fz)
-        if o.freeze > 0:  # static
+        if o.freeze_iterations > 0:  # static
             nxt = _unfreeze(nxt, pred, lambda q: res_t(q, tc1, jnp.asarray(False)), tests, o)
         return nxt
 
@@ -325,19 +346,19 @@ def newton_parts(
         return q, it, jnp.linalg.norm(R), F, status
 
     zero = jnp.asarray(0)
-    fz0 = jnp.asarray(o.freeze > 0)
+    fz0 = jnp.asarray(o.freeze_iterations > 0)
     init = _Iterate(q0, R0, F0, zero, jnp.asarray(jnp.inf), jnp.linalg.norm(R0), zero, fz0)
     return NewtonParts(init, cond, body, result)
 
 
 def _unfreeze(c: _Iterate, pred, free_residual, tests: _Tests, o: NewtonOptions) -> _Iterate:
     """Unfreeze the contact statuses once the frozen problem is solved (not on the
-    predictor's move) or after ``o.freeze`` iterations, and evaluate the iterate with the
+    predictor's move) or after ``o.freeze_iterations`` iterations, and evaluate the iterate with the
     free law (``free_residual``); the free residual starts afresh: no stalled-iterate
     test on this move."""
     q, Rn, Fn, it, dx, ref, it_ref, fz = c
     solved = ~pred & tests.converged(q, Rn, Fn, dx)
-    unfreeze = fz & (solved | (it >= o.freeze))
+    unfreeze = fz & (solved | (it >= o.freeze_iterations))
     Rn, Fn = jax.lax.cond(unfreeze, lambda _: free_residual(q), lambda _: (Rn, Fn), None)
     dx = jnp.where(unfreeze, jnp.inf, dx)
     ref = jnp.where(unfreeze, jnp.linalg.norm(Rn), ref)

@@ -2,8 +2,8 @@
 
 Solves J^T [f_int(u) + sum r_k(u, 0, t, h_k) - lam f_ext(t)] = 0 with u = expand(q, t, lam)
 for lam from ``lam_start`` to 1 (loads, gravity, prescribed motions and link stretches
-ramped together). The increment is halved when Newton fails and grown by ``grow`` after an
-easy increment, between ``min_increment`` and ``max_increment``.
+ramped together). The increment is halved when Newton fails and grown after an easy
+increment (:class:`StepControl`), between ``min_increment`` and ``max_increment``.
 """
 
 from __future__ import annotations
@@ -18,7 +18,9 @@ import numpy as np
 
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
+from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import NewtonOptions, newton
+from bristlecrawler.fe.options import compose
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     CONTACT_OVERFLOW,
@@ -44,30 +46,55 @@ class StaticState:
     lam: Any
 
 
+#: Each load increment's Newton settings by default.
+STATIC_NEWTON = NewtonOptions(tolerance=1e-10, max_iterations=30)
+
+
 @dataclasses.dataclass(frozen=True)
 class StaticOptions:
-    """rtol, atol: |R| <= rtol F + atol (F force scale, N); max_iter per increment;
-    increments: initial number of load increments; min_increment, max_increment, grow:
-    adaptive bounds; easy_iterations: an increment this cheap lets the next one grow;
-    max_rotation: largest nodal rotation change (rad) accepted in one increment. Rotations
-    enter the energy only modulo 2 pi (local rotations are wrapped), so an over-long
-    increment can land on a state whose nodal rotations are off by 2 pi; limiting the
-    increment keeps the rotation field continuous along the load path."""
+    """Load stepping: ``newton`` (:class:`NewtonOptions`, each increment's solve; default
+    tolerance 1e-10, 30 iterations), ``control`` (:class:`StepControl`: an increment is
+    halved when it fails and grown after an easy one), ``increments``: initial number of
+    load increments; ``min_increment``, ``max_increment``: the increment's bounds;
+    ``max_rotation``: largest nodal rotation change (rad) accepted in one increment.
+    Rotations enter the energy only modulo 2 pi (local rotations are wrapped), so an
+    over-long increment can land on a state whose nodal rotations are off by 2 pi;
+    limiting the increment keeps the rotation field continuous along the load path.
 
-    rtol: float = 1e-10
-    atol: float = 0.0
-    max_iter: int = 30
+    The parts' settings can be given as keywords of their names
+    (``StaticOptions(tolerance=1e-12, grow=2.0)``)."""
+
+    newton: NewtonOptions = STATIC_NEWTON
+    control: StepControl = DEFAULT_CONTROL
     increments: int = 1
     min_increment: float = 1e-4
     max_increment: float = 1.0
-    grow: float = 1.5
-    easy_iterations: int = 4
     max_rotation: float = 1.0
 
-    @property
-    def newton(self) -> NewtonOptions:
-        """The Newton settings of each increment (:class:`NewtonOptions`)."""
-        return NewtonOptions(rtol=self.rtol, atol=self.atol, max_iter=self.max_iter)
+    def __init__(
+        self,
+        newton=None,
+        control=None,
+        *,
+        increments=1,
+        min_increment=1e-4,
+        max_increment=1.0,
+        max_rotation=1.0,
+        **settings,
+    ):
+        parts = {
+            "newton": STATIC_NEWTON if newton is None else newton,
+            "control": DEFAULT_CONTROL if control is None else control,
+        }
+        parts = compose("StaticOptions", parts, settings)
+        values = parts | {
+            "increments": increments,
+            "min_increment": min_increment,
+            "max_increment": max_increment,
+            "max_rotation": max_rotation,
+        }
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -153,13 +180,13 @@ def solve_static(
         if int(info.status) == SUCCESS and not too_far:
             lam, q = target, q1
             hist = commit_all(model.terms, u1, jnp.zeros_like(u1), t, hist, params)
-            if int(info.iterations) <= options.easy_iterations:
-                dlam = min(dlam * options.grow, options.max_increment)
+            easy = int(info.iterations) <= options.control.easy_iterations
+            dlam = options.control.next_dt(dlam, dlam, True, easy, options.max_increment)
             continue
         if too_far and int(info.status) == SUCCESS:
             info = dataclasses.replace(info, status=jnp.asarray(ROTATION_LIMIT))
             infos[-1] = info
-        dlam *= 0.5
+        dlam = options.control.next_dt(dlam, dlam, False, False, options.max_increment)
         if int(info.status) == CONTACT_OVERFLOW:  # a smaller increment cannot cure it
             msg = message(info, f"static solve, increment {len(infos)}")
             if throw:

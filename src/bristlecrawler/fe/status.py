@@ -61,7 +61,7 @@ _TEXT = {
         "contact broad phase evaluates (raise the contact term's 'active' count; a smaller "
         "step does not help)"
     ),
-    STALLED: "Newton stalled: the residual stopped halving (Integrator.stall iterations)",
+    STALLED: "Newton stalled: the residual stopped halving (stall_iterations)",
     UNSUPPORTED_DAMPING: (
         "stiffness-proportional damping (a1 != 0) on a model built without it "
         "(Structure.stiffness_damping(False); a smaller step does not help)"

@@ -11,11 +11,11 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from bristlecrawler.crawler.spec import Actuation, Body, Bristle, Contact, Damping, Solver
-from bristlecrawler.scenario.strict import SafeName, StrictSection
+from bristlecrawler.scenario.strict import SafeName, StrictSection, section_of
 from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
 
 _BODY, _BRISTLE, _CONTACT = Body(), Bristle(), Contact()
-_DAMPING, _ACTUATION, _SOLVER = Damping(), Actuation(), Solver()
+_DAMPING, _ACTUATION = Damping(), Actuation()
 
 
 class _Section(StrictSection):
@@ -167,81 +167,8 @@ class ActuationConfig(_Section):
         return self
 
 
-class SolverConfig(_Section):
-    """Implicit dynamics with an adaptive step."""
-
-    hht_alpha: float = Field(_SOLVER.hht_alpha, ge=-1.0 / 3.0, le=0.0, description="HHT alpha, -")
-    dt_max: float = _pos(_SOLVER.dt_max, "largest time step, s", 1e3)
-    dt_min: float = _pos(
-        _SOLVER.dt_min, "smallest time step before giving up, s (at least 1e-12)", 1e3, ge=1e-12
-    )
-    tolerance: float = _pos(
-        _SOLVER.tolerance,
-        "Newton tolerance on the relative residual, - (1e-15 to 0.1)",
-        0.1,
-        ge=1e-15,
-    )
-    max_iterations: int = Field(
-        _SOLVER.max_iterations,
-        ge=2,
-        le=1000,
-        description="Newton iterations per step attempt before the step is cut (12 saves "
-        "iterations on `paper` but stopped `paper-vertical` at dt_min)",
-    )
-    stall_iterations: int = Field(
-        _SOLVER.stall_iterations,
-        ge=0,
-        le=1000,
-        description="cut a step whose Newton goes this many iterations without halving its "
-        "residual (0: off, only max_iterations)",
-    )
-    freeze_iterations: int = Field(
-        _SOLVER.freeze_iterations,
-        ge=0,
-        le=999,
-        description="Newton iterations of each step that keep every closed contact point in "
-        "its last converged stick/slip status, ended early once that problem is solved; "
-        "only later iterations, with the Coulomb return mapping, can converge "
-        "(0: off). Must be below max_iterations",
-    )
-    line_search: Literal["growth", "monotone"] = Field(
-        _SOLVER.line_search,
-        description="Newton line search: halve a correction until the residual decreases "
-        "('monotone'), or only when it blows up ('growth')",
-    )
-    predictor: Literal["tangent", "constant"] = Field(
-        _SOLVER.predictor,
-        description="start of each step's Newton: the residual linearised in the stroke's "
-        "increment ('tangent'), or the last converged state ('constant')",
-    )
-    energy_tol: float = Field(
-        _SOLVER.energy_tol,
-        gt=0.0,
-        allow_inf_nan=True,
-        description="largest energy one step may create, mJ: the changes of elastic, "
-        "kinetic and potential energy and of the friction and damping dissipation over the "
-        "step minus the connector work; a step above it is cut (inf: no control)",
-    )
-    energy_loss_tol: float = Field(
-        _SOLVER.energy_loss_tol,
-        gt=0.0,
-        allow_inf_nan=True,
-        description="largest energy one step may lose, mJ (the same balance, the other "
-        "sign): the impact-like loss of a large step across a snap. Bounded, the steps "
-        "resolve the snaps; inf lets a step take a snap at once, which runs `paper` 2.3 "
-        "times faster with the same advance, but lets the vertical bristles of "
-        "`paper-vertical` flip over unresolved",
-    )
-    max_correction: float = Field(
-        _SOLVER.max_correction,
-        gt=0.0,
-        allow_inf_nan=True,
-        description="largest nodal translation of a Newton correction's first trial, mm: "
-        "a larger correction is scaled down to it before the line search halves it (inf: "
-        "off). Corrections that moved a bristle tip by millimetres through the substrate "
-        "took all the line search's halvings; capped, `paper` needs 16-22 % fewer Newton "
-        "iterations for the same gait",
-    )
+#: Implicit dynamics with an adaptive step: the table of :class:`crawler.Solver`'s settings.
+SolverConfig = section_of(Solver, _Section, "Implicit dynamics with an adaptive step.")
 
 
 class OutputConfig(_Section):
@@ -369,13 +296,6 @@ class Scenario(_Section):
                 f"bristle.thickness_tip ({self.bristle.thickness_tip:g} mm) must not exceed "
                 f"bristle.thickness_clamp ({self.bristle.thickness_clamp:g} mm): the bristle "
                 "tapers from its clamp"
-            )
-        if self.solver.dt_min >= self.solver.dt_max:
-            raise ValueError("solver.dt_min must be smaller than solver.dt_max")
-        if self.solver.freeze_iterations >= self.solver.max_iterations:
-            raise ValueError(
-                f"solver.freeze_iterations ({self.solver.freeze_iterations}) must be smaller "
-                f"than solver.max_iterations ({self.solver.max_iterations})"
             )
         return self
 

@@ -2,10 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
+import typing
 from typing import Annotated, Any, TypeVar
 
 import numpy as np
-from pydantic import AfterValidator, BaseModel, ConfigDict, ValidationError, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    create_model,
+    model_validator,
+)
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.io.output_paths import check_safe_name
@@ -30,6 +40,36 @@ class StrictSection(BaseModel):
         if isinstance(data, dict):
             return {k: v.item() if isinstance(v, np.generic) else v for k, v in data.items()}
         return data
+
+
+def section_of(settings: type, base: type[StrictSection], doc: str) -> type[StrictSection]:
+    """The scenario table of an options dataclass whose fields are declared with
+    :func:`fe.options.setting`: one key per field, of the field's name, type and default,
+    its meaning as the description and its range as pydantic bounds; after the fields,
+    the dataclass's own ``check(prefix="")`` (the rules between settings), so each rule
+    has one home."""
+    hints = typing.get_type_hints(settings)
+    fields: dict[str, Any] = {}
+    for f in dataclasses.fields(settings):
+        meta, kind = f.metadata, hints[f.name]
+        extra = dict(meta["bounds"])
+        if kind is float:
+            extra["allow_inf_nan"] = meta["inf"]
+        fields[f.name] = (kind, Field(f.default, description=meta["doc"], **extra))
+
+    def check(self):
+        try:
+            settings(**self.model_dump()).check(prefix="")
+        except InputError as exc:
+            raise ValueError(str(exc)) from None
+        return self
+
+    validators = {"_check": model_validator(mode="after")(check)}
+    model = create_model(
+        settings.__name__ + "Config", __base__=base, __validators__=validators, **fields
+    )
+    model.__doc__ = doc
+    return model
 
 
 def first_error_message(

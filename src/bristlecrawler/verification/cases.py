@@ -231,7 +231,7 @@ def case_energy(n_steps: int = 1000) -> list[Row]:
     s0 = initial_state(free, q=q0)
     rhoA = float(m.params.rho[0] * m.params.sec[0, 2] * m.params.sec[0, 3])
     dt = 2.0 * math.pi / (1.8751**2 * math.sqrt(EI / rhoA)) / 20.0
-    ig = Integrator.newmark(0.25, 0.5, rtol=1e-12)
+    ig = Integrator.newmark(0.25, 0.5, tolerance=1e-12)
     chunk = 100
     E0 = energy(s0, free)["total"]
     drift, s = 0.0, s0
@@ -281,7 +281,7 @@ def case_hht(alpha: float = -0.05) -> list[Row]:
     """HHT numerical dissipation on a linear oscillator vs the amplification matrix: rho and
     xi at Omega = 0.5, 2 (tol 1e-6, round-off of the fit), and the high-frequency limit
     rho_inf = (1 + alpha)/(1 - alpha) at Omega = 1e3 (tol 1e-3, finite Omega)."""
-    ig = Integrator.hht(alpha, rtol=1e-13)
+    ig = Integrator.hht(alpha, tolerance=1e-13)
     rows = []
     for Om in (0.5, 2.0):
         rho, xi = measured_roots(ig, Om)

@@ -1,0 +1,145 @@
+"""The crawler's solver settings: one object, the ``[solver]`` table of a scenario file.
+
+Each setting is declared once here (name, default, meaning with its unit, valid range);
+the scenario schema and ``bristlecrawler scenario keys`` are built from these
+declarations, and the settings reach the FE kernels under the same names: the Newton
+ones as :class:`fe.NewtonOptions`, the step rule as :class:`fe.StepControl`, the time
+scheme as :class:`fe.Integrator`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+from bristlecrawler.errors import InputError
+from bristlecrawler.fe.options import check_settings, setting
+
+
+@dataclass(frozen=True)
+class Solver:
+    """Implicit dynamics (HHT-alpha) with adaptive steps, and its Newton settings."""
+
+    hht_alpha: float = setting(-0.05, "HHT alpha, -", ge=-1.0 / 3.0, le=0.0)
+    dt_max: float = setting(0.05, "largest time step, s", gt=0.0, le=1e3)
+    dt_min: float = setting(
+        1e-6, "smallest time step before giving up, s (at least 1e-12)", ge=1e-12, le=1e3
+    )
+    tolerance: float = setting(
+        1e-8, "Newton tolerance on the relative residual, - (1e-15 to 0.1)", ge=1e-15, le=0.1
+    )
+    max_iterations: int = setting(
+        25,
+        "Newton iterations per step attempt before the step is cut (12 saves iterations "
+        "on `paper` but stopped `paper-vertical` at dt_min)",
+        ge=2,
+        le=1000,
+    )
+    stall_iterations: int = setting(
+        0,
+        "cut a step whose Newton goes this many iterations without halving its residual "
+        "(0: off, only max_iterations)",
+        ge=0,
+        le=1000,
+    )
+    freeze_iterations: int = setting(
+        0,
+        "Newton iterations of each step that keep every closed contact point in its last "
+        "converged stick/slip status, ended early once that problem is solved; only later "
+        "iterations, with the Coulomb return mapping, can converge (0: off). Must be below "
+        "max_iterations",
+        ge=0,
+        le=999,
+    )
+    line_search: Literal["growth", "monotone"] = setting(
+        "monotone",
+        "Newton line search: halve a correction until the residual decreases "
+        "('monotone'), or only when it blows up ('growth')",
+    )
+    predictor: Literal["tangent", "constant"] = setting(
+        "tangent",
+        "start of each step's Newton: the residual linearised in the stroke's increment "
+        "('tangent'), or the last converged state ('constant')",
+    )
+    energy_tol: float = setting(
+        1e-2,
+        "largest energy one step may create, mJ: the changes of elastic, kinetic and "
+        "potential energy and of the friction and damping dissipation over the step minus "
+        "the connector work; a step above it is cut (inf: no control)",
+        gt=0.0,
+        inf=True,
+    )
+    energy_loss_tol: float = setting(
+        1e-2,
+        "largest energy one step may lose, mJ (the same balance, the other sign): the "
+        "impact-like loss of a large step across a snap. Bounded, the steps resolve the "
+        "snaps; inf lets a step take a snap at once, which runs `paper` 2.3 times faster "
+        "with the same advance, but lets the vertical bristles of `paper-vertical` flip "
+        "over unresolved",
+        gt=0.0,
+        inf=True,
+    )
+    max_correction: float = setting(
+        0.05,
+        "largest nodal translation of a Newton correction's first trial, mm: a larger "
+        "correction is scaled down to it before the line search halves it (inf: off). "
+        "Corrections that moved a bristle tip by millimetres through the substrate took all "
+        "the line search's halvings; capped, `paper` needs 16-22 % fewer Newton iterations "
+        "for the same gait",
+        gt=0.0,
+        inf=True,
+    )
+    grow: float = setting(
+        1.5, "factor a step grows by after an easy one, - (1: never grows)", ge=1.0, le=10.0
+    )
+    easy_iterations: int = setting(
+        4,
+        "a step that took at most this many Newton iterations is easy: the next one grows",
+        ge=0,
+        le=1000,
+    )
+
+    def check(self, prefix: str = "solver.") -> None:
+        """InputError naming the first setting out of its range, or an inconsistent pair
+        (settings named with ``prefix``)."""
+        check_settings(self, prefix)
+        if self.dt_min >= self.dt_max:
+            raise InputError(f"{prefix}dt_min must be smaller than {prefix}dt_max")
+        try:
+            self.newton  # noqa: B018  (the Newton settings' own rules)
+            self.integrator(math.inf)
+        except InputError as e:
+            raise InputError(f"{prefix}{e}") from None
+
+    @property
+    def newton(self):
+        """The Newton settings of each step (:class:`fe.NewtonOptions`)."""
+        from bristlecrawler import fe
+
+        return fe.NewtonOptions(
+            tolerance=self.tolerance,
+            max_iterations=self.max_iterations,
+            line_search=self.line_search,
+            stall_iterations=self.stall_iterations,
+            freeze_iterations=self.freeze_iterations,
+            max_correction=self.max_correction,
+        )
+
+    @property
+    def control(self):
+        """The adaptive step rule (:class:`fe.StepControl`)."""
+        from bristlecrawler import fe
+
+        return fe.StepControl(self.grow, self.easy_iterations)
+
+    def integrator(self, max_penetration: float):
+        """The :class:`fe.Integrator` of these settings."""
+        from bristlecrawler import fe
+
+        return fe.Integrator.hht(
+            self.hht_alpha,
+            newton=self.newton,
+            predictor=self.predictor,
+            max_penetration=max_penetration,
+        )
