@@ -60,7 +60,7 @@ def bristle(n: int, contact: str):
     z = jnp.zeros((model.topology.n_nodes, 3))
     hist = ()
     if points:
-        law = CoulombLaw.for_reference_load(0.65, load=1.0, max_penetration=1e-4)
+        law = CoulombLaw.for_reference_load(0.65, load=1.0, design_penetration=1e-4)
         params = SubstrateContact.params(np.asarray(model.params.X), points, GROOVES, law)
         model = model.with_params(extra=(params,))
         hist = (history_at(term, z, params),)

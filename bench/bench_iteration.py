@@ -46,7 +46,7 @@ def programs(ctx):
 
     m, state = ctx.model, ctx.state
     topo, terms, params = m.topology, m.terms, m.params
-    ig = ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
+    ig = ctx.spec.solver.integrator(ctx.spec.contact.penetration_limit)
     dt = jnp.asarray(1e-3)
 
     def equations(state, params):

@@ -101,7 +101,7 @@ def main() -> None:
     from bristlecrawler.scenario.load import apply_overrides, load_scenario
 
     spec = to_spec(apply_overrides(load_scenario(a.scenario), a.sets))
-    ig = spec.solver.integrator(spec.contact.max_penetration)
+    ig = spec.solver.integrator(spec.contact.penetration_limit)
     crawler = build(spec)
     title = f"crawler ({a.scenario}, {' '.join(a.sets) or 'no overrides'})"
     report(title, crawler.model, ig, crawler.observer())

@@ -56,7 +56,7 @@ def main() -> None:
     sets = ["actuation.cycles=1", "bristle.elements=6", *a.sets]
     sc = apply_overrides(load_scenario(a.scenario), sets)
     spec = to_spec(sc)
-    most = spec.solver.integrator(spec.contact.max_penetration).newton.max_backtracks + 1
+    most = spec.solver.integrator(spec.contact.penetration_limit).newton.max_backtracks + 1
     trials: list = []
     search, newton._line_search = counting(trials)
     try:

@@ -1,4 +1,4 @@
-"""A converged step whose contact penetration exceeds ``Integrator.max_penetration`` is
+"""A converged step whose contact penetration exceeds ``Integrator.penetration_limit`` is
 rejected (status PENETRATION) and cut by the adaptive driver; below the limit nothing
 changes. A mass on a flat substrate under a load F settles at the penalty's depth F / k_n."""
 
@@ -40,7 +40,7 @@ def _pressed_mass():
 @pytest.mark.parametrize("limit", [math.inf, 4e-3])
 def test_steps_below_the_limit_are_accepted(limit):
     m, s0 = _pressed_mass()
-    ig = fe.Integrator.hht(max_penetration=limit)
+    ig = fe.Integrator.hht(penetration_limit=limit)
     res = fe.integrate(m, s0, 0.05, 1e-3, integrator=ig)
     depth = -float(res.state.u[0, 1])
     assert res.ok and depth == pytest.approx(F / K_N, rel=0.05)
@@ -51,7 +51,7 @@ def test_steps_below_the_limit_are_accepted(limit):
 @pytest.mark.slow
 def test_a_step_deeper_than_the_limit_is_rejected():
     m, s0 = _pressed_mass()
-    ig = fe.Integrator.hht(max_penetration=1e-3)  # half the equilibrium depth
+    ig = fe.Integrator.hht(penetration_limit=1e-3)  # half the equilibrium depth
     step = fe.make_step(m.topology, m.terms, ig)
     state, info = s0, None
     for _ in range(200):
@@ -66,5 +66,5 @@ def test_a_step_deeper_than_the_limit_is_rejected():
 
 
 def test_limit_must_be_positive():
-    with pytest.raises(InputError, match="max_penetration"):
-        fe.Integrator.hht(max_penetration=0.0)
+    with pytest.raises(InputError, match="penetration_limit"):
+        fe.Integrator.hht(penetration_limit=0.0)

@@ -11,7 +11,16 @@ import functools
 import numpy as np
 import pytest
 
-from bristlecrawler.crawler import RunOptions, group, run, run_batch
+from bristlecrawler.crawler import (
+    Hold,
+    ModalDamping,
+    RunOptions,
+    Settle,
+    Stroke,
+    group,
+    run,
+    run_batch,
+)
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.scenario.load import load_scenario
 from structures import COARSE, coarse_spec
@@ -96,6 +105,36 @@ def test_a_failing_design_is_reported_while_the_others_finish():
     assert b.errors[1] is None
     assert b.histories[1].net_advance == pytest.approx(batch().histories[1].net_advance, abs=1e-9)
     assert b.histories[1].stats["steps"] == batch().histories[1].stats["steps"]
+
+
+@pytest.mark.slow
+def test_a_batch_runs_the_stages_a_single_run_takes():
+    """The stages of a run are the batch's too: with a stroke in chunks of 0.1 s (not the
+    default) and a hold after it, each design of the batch takes its single run's steps
+    (the chunk ends cap the steps, so a batch ignoring them would differ)."""
+    stages = (Settle(), ModalDamping(), Stroke(chunk=0.1), Hold(0.1))
+    b = run_batch([design(*d) for d in DESIGNS[:2]], stages=stages)
+    for index, h in enumerate(b.histories):
+        single = run(design(*DESIGNS[index]), stages)
+        assert h.stats["steps"] == single.stats["steps"]
+        assert h.t[-1] == pytest.approx(single.t[-1], abs=1e-12)
+        assert h.net_advance == pytest.approx(single.net_advance, abs=1e-6)
+    default = batch().histories[0]
+    assert b.histories[0].stats["steps"] != default.stats["steps"]
+
+
+def test_a_stage_a_batch_cannot_step_is_refused_before_any_work():
+    class Custom:
+        name = "custom"
+
+        def span(self, ctx):
+            return 0.0
+
+        def __call__(self, ctx):
+            raise AssertionError("a refused batch must not run its stages")
+
+    with pytest.raises(InputError, match="Custom is not one"):
+        run_batch([base()], stages=(Settle(), Custom()))
 
 
 def test_designs_of_different_structures_are_refused_with_the_key_that_differs():

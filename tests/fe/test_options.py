@@ -94,3 +94,25 @@ def test_composed_options_take_their_parts_settings_as_keywords():
     assert opts.control.grow == 2.0 and opts.increments == 3
     with pytest.raises(TypeError, match="unexpected keyword argument 'tolerence'"):
         fe.Integrator.hht(tolerence=1e-9)
+
+
+def test_the_two_penetrations_have_two_names_and_the_old_key_still_reads(tmp_path):
+    """``contact.penetration_limit`` (a step deeper than it is cut) is not the penalty's
+    design penetration (``CoulombLaw.for_reference_load(design_penetration=...)``); the
+    old key ``contact.max_penetration`` reads as the limit, with a warning line."""
+    from bristlecrawler.contact.coulomb import CoulombLaw
+    from bristlecrawler.scenario.load import DeprecatedKeyWarning
+
+    with pytest.warns(DeprecatedKeyWarning, match="use contact.penetration_limit"):
+        sc = scenario_from_dict({"contact": {"max_penetration": 0.01}})
+    assert sc.contact.penetration_limit == 0.01
+    with pytest.warns(DeprecatedKeyWarning):
+        sc = apply_overrides(load_scenario("paper"), ["contact.max_penetration=0.02"])
+    assert to_spec(sc).contact.penetration_limit == 0.02
+    assert to_spec(sc).solver.integrator(0.02).penetration_limit == 0.02
+    with pytest.raises(InputError, match="not both"), pytest.warns(DeprecatedKeyWarning):
+        scenario_from_dict({"contact": {"max_penetration": 0.01, "penetration_limit": 0.02}})
+    with pytest.warns(DeprecationWarning, match="design_penetration"):
+        old = CoulombLaw.for_reference_load(0.5, load=1.0, max_penetration=1e-4)
+    new = CoulombLaw.for_reference_load(0.5, load=1.0, design_penetration=1e-4)
+    assert float(old.k_n) == float(new.k_n) == pytest.approx(1e4)

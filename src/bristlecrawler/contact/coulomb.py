@@ -45,6 +45,7 @@ non-symmetric consistent tangent of the non-associative Coulomb law.
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
 import jax
@@ -108,8 +109,9 @@ class CoulombLaw:
         cls,
         mu: float,
         load: float = PAPER_TIP_LOAD,
-        max_penetration: float = 1e-3,
+        design_penetration: float = 1e-3,
         max_stick_drift: float = 1e-4,
+        **deprecated: float,
     ) -> CoulombLaw:
         """Penalties sized for a reference normal load.
 
@@ -117,24 +119,36 @@ class CoulombLaw:
             mu: friction coefficient, dimensionless.
             load: reference normal load, N (default: the paper's static load per bristle,
                 0.27 N; pass the largest load expected, dynamic peaks included).
-            max_penetration: penetration allowed at ``load``, mm (default 1 micrometre).
+            design_penetration: penetration at ``load``, mm (default 1 micrometre): it
+                sizes the penalty (``max_penetration`` before, still taken with a
+                DeprecationWarning); a run's limit on penetration is another setting,
+                ``Integrator.penetration_limit``.
             max_stick_drift: elastic tangential displacement allowed in stick at the
                 friction limit ``mu * load``, mm (default 1e-4 mm).
 
-        Returns ``k_n = load / max_penetration`` and
+        Returns ``k_n = load / design_penetration`` and
         ``k_t = max(mu, 0.01) * load / max_stick_drift`` (N/mm); the floor keeps ``k_t``
         positive and meaningful for frictionless contact.
         """
+        if "max_penetration" in deprecated:
+            warnings.warn(
+                "for_reference_load(max_penetration=...) is deprecated: use design_penetration",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            design_penetration = deprecated.pop("max_penetration")
+        if deprecated:
+            raise TypeError(f"for_reference_load got unexpected keywords {sorted(deprecated)}")
         for name, v in (
             ("load", load),
-            ("max_penetration", max_penetration),
+            ("design_penetration", design_penetration),
             ("max_stick_drift", max_stick_drift),
         ):
             if not (np.isfinite(v) and v > 0):
                 raise InputError(f"{name} must be a positive finite number, got {v!r}")
         if not (np.isfinite(mu) and mu >= 0):
             raise InputError(f"friction coefficient mu must be finite and >= 0, got {mu!r}")
-        k_n = load / max_penetration
+        k_n = load / design_penetration
         k_t = max(mu, 0.01) * load / max_stick_drift
         return cls(mu=mu, k_n=k_n, k_t=k_t)
 

@@ -31,6 +31,7 @@ from bristlecrawler.crawler.history import (
 from bristlecrawler.crawler.model import CrawlerModel, build
 from bristlecrawler.crawler.runner import (
     DEFAULT_STAGES,
+    Advance,
     Hold,
     ModalDamping,
     Progress,
@@ -38,6 +39,7 @@ from bristlecrawler.crawler.runner import (
     RunOptions,
     Settle,
     Stage,
+    SteppedStage,
     Stroke,
     run,
 )
@@ -59,6 +61,7 @@ __all__ = [
     "TIP_SLIP",
     "TIP_STICK",
     "Actuation",
+    "Advance",
     "BatchResult",
     "Body",
     "Bristle",
@@ -75,6 +78,7 @@ __all__ = [
     "Settle",
     "Solver",
     "Stage",
+    "SteppedStage",
     "StrainPeak",
     "Stroke",
     "build",

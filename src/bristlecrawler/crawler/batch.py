@@ -12,6 +12,7 @@ single run would raise; the others go on.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -23,13 +24,14 @@ import numpy as np
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import build
 from bristlecrawler.crawler.runner import (
+    DEFAULT_STAGES,
     ModalDamping,
     Progress,
     RunContext,
     RunOptions,
     Settle,
+    SteppedStage,
     Stroke,
-    compile_programs,
     history_of,
 )
 from bristlecrawler.crawler.spec import CrawlerSpec
@@ -67,43 +69,39 @@ def run_batch(
     specs: Sequence[CrawlerSpec],
     *,
     width: int | None = None,
+    stages: Sequence[SteppedStage] = DEFAULT_STAGES,
     options: RunOptions | None = None,
     on_progress: Callable[[Progress], None] | None = None,
 ) -> BatchResult:
-    """Run designs of one structure as one batch (gravity step, modal damping, stroke).
+    """Run designs of one structure as one batch, through the ``stages`` a single run
+    takes (default: gravity step, modal damping, stroke).
 
     ``width``: designs in the compiled program (default: as many as given); a batch of
     fewer designs is padded with masked copies, so that the batches of a sweep share one
-    program. Bad input (no designs, designs of different structures, more designs than
-    ``width``) is an :class:`InputError` before any work; a design that fails to settle or
-    to finish its stroke gets its error in :attr:`BatchResult.errors`.
+    program. Each stage is a :class:`SteppedStage`: every design's ``start``, then the
+    stepping of all of them in one batched program, then every design's ``finish``. Bad
+    input (no designs, designs of different structures, more designs than ``width``, a
+    stage a batch cannot run) is an :class:`InputError` before any work; a design that
+    fails in a stage gets its error in :attr:`BatchResult.errors`.
     """
     wall0 = time.perf_counter()
     specs = tuple(specs)
     width = _check_input(specs, width)
+    stages = _check_stages(stages)
     options = options or RunOptions()
-    ctxs = [RunContext(build(s), options, None, t_end=0.0) for s in specs]
+    ctxs = [RunContext(build(s), options, None, t_end=0.0, batched=True) for s in specs]
+    for ctx in ctxs:
+        ctx.stages = stages
     _check_programs(ctxs)
     errors: list[str | None] = [None] * len(specs)
-    compiling = 0.0
-    for i, ctx in enumerate(ctxs):
-        # The first design compiles the programs that every design calls on its own.
-        seconds = _guarded(errors, i, lambda ctx=ctx, first=i == 0: _settle_start(ctx, first))
-        compiling += seconds or 0.0
-    stage_wall = time.perf_counter()
     batch = _BatchAdvance(ctxs, errors, width, on_progress)
-    settle = batch.run(Settle(), check=False)
-    modal = time.perf_counter()
-    for i, ctx in enumerate(ctxs):
-        if errors[i] is None:
-            ctx.records.clear()
-            _guarded(errors, i, lambda ctx=ctx: ModalDamping()(ctx))
-    modal = time.perf_counter() - modal
-    stats = batch.run(Stroke(), check=True)
-    stats["compile_time_s"] += settle["compile_time_s"] + compiling
-    stats["settle_wall_time_s"] = settle["wall_time_s"] - settle["compile_time_s"]
-    stats["modal_wall_time_s"] = modal
-    stats["prepare_wall_time_s"] = stage_wall - wall0 - compiling
+    stats = {"width": width, "compile_time_s": 0.0, "prepare_wall_time_s": 0.0}
+    stats |= {"stroke_wall_time_s": 0.0, "batch_iterations": 0, "design_iterations": 0}
+    stats["utilisation"] = np.nan
+    built = time.perf_counter()
+    for stage in stages:
+        _add_stats(stats, stage, _run_stage(stage, batch))
+    stats["prepare_wall_time_s"] += built - wall0
     histories = []
     t_records = time.perf_counter()
     for ctx, err in zip(ctxs, errors, strict=True):
@@ -116,6 +114,46 @@ def run_batch(
     return BatchResult(tuple(histories), tuple(errors), stats)
 
 
+def _run_stage(stage: SteppedStage, batch: _BatchAdvance) -> dict:
+    """``stage`` for every live design of ``batch``: the designs' starts, their stepping
+    in one batched program, their finishes. Returns the stage's times (s): ``starts``,
+    ``compiling`` (in the starts), ``whole``, and the batched stepping's statistics."""
+    ctxs, errors = batch.ctxs, batch.errors
+    t0, compiling = time.perf_counter(), 0.0
+    for i, ctx in enumerate(ctxs):
+        if errors[i] is None:
+            before = ctx.stats.get("compile_time_s", 0.0)
+            _guarded(errors, i, lambda ctx=ctx: stage.start(ctx))
+            seconds = ctx.stats.get("compile_time_s", 0.0) - before
+            compiling += seconds if math.isfinite(seconds) else 0.0
+    starts = time.perf_counter() - t0
+    live = [i for i, e in enumerate(errors) if e is None]
+    plans = {i: stage.stepping(ctxs[i]) for i in live}
+    stepped = {"wall_time_s": 0.0, "compile_time_s": 0.0}
+    if live and all(p is not None for p in plans.values()):
+        stepped = batch.run(stage, plans)
+    for i, ctx in enumerate(ctxs):
+        if errors[i] is None:
+            _guarded(errors, i, lambda ctx=ctx: stage.finish(ctx))
+    whole = time.perf_counter() - t0
+    return {"starts": starts, "compiling": compiling, "whole": whole, "stepped": stepped}
+
+
+def _add_stats(stats: dict, stage: SteppedStage, times: dict) -> None:
+    """The batch's statistics (see :class:`BatchResult`) with a stage's ``times``."""
+    stepped = times["stepped"]
+    stats["compile_time_s"] += times["compiling"] + stepped["compile_time_s"]
+    if isinstance(stage, Settle):
+        stats["prepare_wall_time_s"] += times["starts"] - times["compiling"]
+        stats["settle_wall_time_s"] = stepped["wall_time_s"] - stepped["compile_time_s"]
+    elif isinstance(stage, ModalDamping):
+        stats["modal_wall_time_s"] = times["whole"]
+    elif isinstance(stage, Stroke):
+        for key in ("stroke_wall_time_s", "batch_iterations", "design_iterations"):
+            stats[key] = stepped[key]
+        stats["utilisation"] = stepped["utilisation"]
+
+
 def _guarded(errors, i, work):
     """``work()``, or None with its error as design ``i``'s."""
     try:
@@ -125,19 +163,15 @@ def _guarded(errors, i, work):
         return None
 
 
-def _settle_start(ctx: RunContext, first: bool) -> float:
-    """What :class:`Settle` does before it steps: the provisional damping, the first step
-    size and the initial state; for the ``first`` design also the compilation of the
-    programs every design calls on its own (initial state, observer, modal analysis).
-    Returns the seconds spent compiling."""
-    from bristlecrawler import fe
-
-    Settle.setup(ctx)
-    if first:
-        ctx.state, seconds = compile_programs(ctx, step=False, modal=True)
-        return seconds
-    ctx.state = fe.initial_state(ctx.model)
-    return 0.0
+def _check_stages(stages) -> tuple:
+    stages = tuple(stages)
+    for st in stages:
+        if not isinstance(st, SteppedStage):
+            raise InputError(
+                f"a batch runs stages that step in time as SteppedStage objects (start, "
+                f"stepping, finish); {type(st).__name__} is not one"
+            )
+    return stages
 
 
 def group(specs: Sequence[CrawlerSpec], size: int) -> list[list[int]]:
@@ -216,60 +250,54 @@ def _compiled(run, args):
 
 
 class _BatchAdvance:
-    """A stage of every live design (one that has not failed), in one batched program:
-    the gravity step (:class:`Settle`, without the energy check, to its end at once) or
-    the stroke (:class:`Stroke`, with it, in the chunks of simulated time its single run
-    takes: the chunk ends cap the step, so other chunks would give other steps). The
-    compiled loop starts a design's next chunk itself, and returns to the host only when a
-    design's record buffer is full or every design is done. Both stages run one program:
-    the check is switched per call, not compiled in or out."""
+    """The stepping of a stage for every live design (one that has not failed), in one
+    batched program, as each design's :class:`Advance` asks: its span, in the chunks of
+    simulated time its single run takes (the chunk ends cap the step, so other chunks
+    would give other steps), with or without the energy check. The compiled loop starts
+    a design's next chunk itself, and returns to the host only when a design's record
+    buffer is full or every design is done. Every stage runs one program: the check is
+    switched per call, not compiled in or out."""
 
     def __init__(self, ctxs, errors, width, on_progress):
         self.ctxs, self.errors, self.width = ctxs, errors, width
         self.on_progress = on_progress
 
-    def run(self, stage, check: bool) -> dict:
+    def run(self, stage, plans: dict) -> dict:
+        """Step every live design as ``plans`` (design -> :class:`Advance`) asks."""
         t0 = time.perf_counter()
         stats = {"width": self.width, "compile_time_s": 0.0, "stroke_wall_time_s": 0.0}
         stats |= {"batch_iterations": 0, "design_iterations": 0, "utilisation": np.nan}
         self.live = [i for i, e in enumerate(self.errors) if e is None]
+        checks = {p.check for p in plans.values()}
+        if len(checks) > 1:
+            raise InputError(f"{stage.name}: the designs of a batch step with one energy check")
         if self.live:
-            self._run(stage, check, stats)
+            self._run(stage, plans, checks.pop(), stats)
         stats["wall_time_s"] = time.perf_counter() - t0
         return stats
 
-    def _inputs(self, stage, slots, real, check):
-        ctxs, sv = self.ctxs, [self.ctxs[i].spec.solver for i in slots]
-        dt_min = np.array([s.dt_min for s in sv])
-        settle_dt_max = [Settle.dt_max(ctxs[i]) for i in slots]
-        dt_max = np.array([s.dt_max for s in sv] if check else settle_dt_max)
+    def _inputs(self, plans, slots, real):
+        ctxs = self.ctxs
+        dt_min = np.array([ctxs[i].spec.solver.dt_min for i in slots])
+        dt_max = np.array([plans[i].dt_max for i in slots])
         t = np.array([float(ctxs[i].state.t) for i in slots])
-        t_end = np.where(real, t + np.array([stage.span(ctxs[i]) for i in slots]), t)
-        if isinstance(stage, Stroke):
-            chunk = np.array([max(ctxs[i].spec.actuation.period / 20.0, 0.5) for i in slots])
-        else:
-            chunk = t_end - t
+        t_end = np.where(real, t + np.array([plans[i].span for i in slots]), t)
+        chunk = np.array([plans[i].chunk for i in slots])
         return t, t_end, chunk, dt_min, dt_max
 
-    def _run(self, stage, check: bool, stats: dict) -> None:
+    def _run(self, stage, plans: dict, check: bool, stats: dict) -> None:
         from bristlecrawler import fe
 
         ctxs, live = self.ctxs, self.live
         # Padding slots repeat a live design and stay masked (their stage is empty).
         slots = live + [live[-1]] * (self.width - len(live))
         real = np.array([j < len(live) for j in range(self.width)])
-        if check:
-            for i in live:
-                ctx = ctxs[i]
-                ctx.records.append(
-                    jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params))
-                )
         first = ctxs[live[0]]
         driver = fe.make_batch_driver(*first.driver_args(True), first.parallel_trials)
         carry = fe.stack([fe.driver_start(ctxs[i].state, ctxs[i].dt) for i in slots])
         params = fe.stack([ctxs[i].model.params for i in slots])
         pending = driver.pending(carry, params)
-        t, t_end, chunk, dt_min, dt_max = self._inputs(stage, slots, real, check)
+        t, t_end, chunk, dt_min, dt_max = self._inputs(plans, slots, real)
         t_stop = np.minimum(t + chunk, t_end)
         checked = np.full(self.width, check)
         active = real.copy()
@@ -304,8 +332,6 @@ class _BatchAdvance:
             ctx.iterations += int(its[j])
             ctx.rejected += int(rej[j])
             if check:
-                ctx.stats["stroke_wall_time_s"] = wall
-                ctx.stats["stroke_newton_iterations"] = int(its[j])
                 ctx.stats["batch_width"] = self.width
         own = int(its[real].sum())
         stats |= {"stroke_wall_time_s": wall, "batch_iterations": n_batch}
@@ -315,7 +341,7 @@ class _BatchAdvance:
         ctx = self.ctxs[i]
         ctx.state = carry.state
         where = f"{stage.name} near t = {float(carry.state.t):.4g} s: "
-        self.errors[i] = where + ctx._why(carry)
+        self.errors[i] = where + ctx.why(carry)
 
     def _report(self, stage, t, t_end, active) -> None:
         if self.on_progress is None:

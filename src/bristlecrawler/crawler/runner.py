@@ -93,13 +93,60 @@ class Progress:
 
 class Stage(Protocol):
     """A stage of a run: ``span(ctx)`` simulated seconds it adds (for progress), and
-    ``__call__(ctx)`` does its work on the run's state."""
+    ``__call__(ctx)`` does its work on the run's state.
+
+    A stage that a batch can run too (:func:`run_batch`) is a :class:`SteppedStage`:
+    its work is ``start(ctx)``, then the time stepping ``stepping(ctx)`` asks for, then
+    ``finish(ctx)``; a single run does the three in turn, a batch does each design's
+    start, steps every design at once, then does each design's finish."""
 
     name: str
 
     def span(self, ctx: RunContext) -> float: ...
 
     def __call__(self, ctx: RunContext) -> None: ...
+
+
+@dataclass(frozen=True)
+class Advance:
+    """The time stepping a stage asks for: ``span`` s from the state's time, in chunks
+    of ``chunk`` s (a chunk's end caps a step, so a batch takes the same chunks as the
+    single run), steps of at most ``dt_max`` s, with the step's energy check or not."""
+
+    span: float
+    chunk: float
+    dt_max: float
+    check: bool
+
+
+class SteppedStage:
+    """Base of the stages that step in time: ``start``, the ``stepping`` they ask for
+    (None: no stepping), ``finish``. Calling one does the three in turn."""
+
+    name: str = ""
+
+    def span(self, ctx: RunContext) -> float:
+        return 0.0
+
+    def start(self, ctx: RunContext) -> None:
+        """What the stage does before it steps."""
+
+    def stepping(self, ctx: RunContext) -> Advance | None:
+        return None
+
+    def finish(self, ctx: RunContext) -> None:
+        """What the stage does after it has stepped."""
+
+    def __call__(self, ctx: RunContext) -> None:
+        self.start(ctx)
+        plan = self.stepping(ctx)
+        if plan is not None:
+            t = float(ctx.state.t)
+            t_end = t + plan.span
+            while t < t_end - 1e-9:
+                ctx.advance(min(t + plan.chunk, t_end), plan.dt_max, self.name, plan.check)
+                t = float(ctx.state.t)
+        self.finish(ctx)
 
 
 class _Failed(Exception):
@@ -112,8 +159,9 @@ class _Failed(Exception):
 class RunContext:
     """The state a run's stages share: the crawler (a :class:`CrawlerModel`, or any
     object with ``model``, ``spec`` and ``observer()``: a drag test's), its current FE
-    model (with the damping in force), dynamic state, step size, records, counters, and
-    the run's ``stages`` (so that the first one can compile what the others need)."""
+    model (with the damping in force), dynamic state, step size, records, counters, the
+    run's ``stages`` (so that the first one can compile what the others need), whether it
+    is a design of a batch, and the marks a stage leaves for its own ``finish``."""
 
     crawler: CrawlerModel
     options: RunOptions
@@ -130,6 +178,8 @@ class RunContext:
     stats: dict = field(default_factory=dict)
     stage: str = ""
     stages: tuple = ()
+    batched: bool = False
+    marks: dict = field(default_factory=dict)
 
     @property
     def spec(self) -> CrawlerSpec:
@@ -161,7 +211,7 @@ class RunContext:
         that share one compiled program."""
 
         sv = self.spec.solver
-        ig = sv.integrator(self.spec.contact.max_penetration)
+        ig = sv.integrator(self.spec.contact.penetration_limit)
         energy = self.energy_check(losses=check)
         m = self.crawler.model
         control = sv.control
@@ -205,11 +255,12 @@ class RunContext:
             self.state, self.dt = carry.state, float(carry.dt)
             if bool(failed):
                 raise SolverError(
-                    f"{where} near t = {float(carry.state.t):.4g} s: " + self._why(carry)
+                    f"{where} near t = {float(carry.state.t):.4g} s: " + self.why(carry)
                 )
             self.report()
 
-    def _why(self, carry) -> str:
+    def why(self, carry) -> str:
+        """Why the drivers' ``carry`` stopped: the step's message, and the cause."""
         from bristlecrawler import fe
         from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe, is_fatal
 
@@ -230,7 +281,7 @@ class RunContext:
 
 
 @dataclass(frozen=True)
-class Settle:
+class Settle(SteppedStage):
     """Step 1: the crawler settles under gravity from its reference state for
     ``actuation.settle_time`` (the actuators start after it), with provisional
     mass-proportional damping (ratio ``max(damping.ratio, 0.15)`` at
@@ -241,12 +292,17 @@ class Settle:
     def span(self, ctx: RunContext) -> float:
         return ctx.spec.actuation.settle_time
 
-    def __call__(self, ctx: RunContext) -> None:
+    def start(self, ctx: RunContext) -> None:
         self.setup(ctx)
         ctx.report("compiling")
         ctx.state = _prepare(ctx)
         ctx.report(self.name)
-        ctx.advance(self.span(ctx), self.dt_max(ctx), self.name, check=False)
+
+    def stepping(self, ctx: RunContext) -> Advance:
+        span = self.span(ctx) - float(ctx.state.t)
+        return Advance(span, span, self.dt_max(ctx), check=False)
+
+    def finish(self, ctx: RunContext) -> None:
         ctx.records.clear()
 
     @staticmethod
@@ -268,15 +324,17 @@ class Settle:
 def _prepare(ctx: RunContext):
     """The run's initial state, with the programs of its stages compiled (or loaded from
     the persistent cache) at once by :func:`compile_programs` when the run uses the host
-    loop (the compiled loop is one program: nothing to compile beside it). The wall time
-    goes to ``stats["compile_time_s"]``."""
+    loop (the compiled loop is one program: nothing to compile beside it) or runs in a
+    batch. The wall time goes to ``stats["compile_time_s"]``."""
     from bristlecrawler import fe
 
-    if not ctx.host:
+    if not (ctx.host or ctx.batched):
         ctx.stats["compile_time_s"] = math.nan
         return fe.initial_state(ctx.model)
     modal = any(isinstance(s, ModalDamping) for s in ctx.stages)
-    state, ctx.stats["compile_time_s"] = compile_programs(ctx, step=True, modal=modal)
+    # A batch steps with its own program: its designs compile only what each calls alone.
+    step = not ctx.batched
+    state, ctx.stats["compile_time_s"] = compile_programs(ctx, step=step, modal=modal)
     return state
 
 
@@ -299,6 +357,11 @@ def compile_programs(ctx: RunContext, *, step: bool, modal: bool):
     model = ctx.model
     t0 = time.perf_counter()
     topo, params = model.topology, model.params
+    observe = ctx.crawler.observer()
+    integrator = ctx.spec.solver.integrator(ctx.spec.contact.penetration_limit)
+    key = (topo, model.terms, observe, integrator if step else None, modal)
+    if ctx.batched and key in _WARM:  # an earlier design of the batch compiled them
+        return fe.initial_state(model), 0.0
     zeros = jnp.zeros((topo.n_nodes, 3))
     like = DynState(
         jnp.asarray(0.0, jnp.float64),
@@ -308,13 +371,10 @@ def compile_programs(ctx: RunContext, *, step: bool, modal: bool):
         zeros,
         init_histories(model),
     )
-    observe = ctx.crawler.observer()
     jobs = [lambda: fe.initial_state(model), lambda: observe(like, params)]
     if step:
         # Made here, called in a thread: two threads must not build one program twice.
-        run_step = fe.make_step(
-            topo, model.terms, ctx.spec.solver.integrator(ctx.spec.contact.max_penetration)
-        )
+        run_step = fe.make_step(topo, model.terms, integrator)
         dt = jnp.asarray(float(ctx.options.dt0) * 1e-3)
         jobs.append(lambda: run_step(like, params, dt))
     if modal:
@@ -326,21 +386,25 @@ def compile_programs(ctx: RunContext, *, step: bool, modal: bool):
     with ThreadPoolExecutor(min(len(jobs), ctx.options.compile_threads)) as pool:
         futures = [pool.submit(job) for job in jobs]
         done = [jax.block_until_ready(f.result()) for f in futures]
+    _WARM.add(key)
     return done[0], time.perf_counter() - t0
 
 
+#: What :func:`compile_programs` has compiled in this process, by what the programs
+#: depend on: the designs of a batch after the first only make their initial state (a
+#: single run still calls them, and reports the time a cache load takes).
+_WARM: set = set()
+
+
 @dataclass(frozen=True)
-class ModalDamping:
+class ModalDamping(SteppedStage):
     """The Rayleigh damping of the stroke: ``damping.ratio`` at the first resonant
     frequency of the settled crawler (modal analysis with the contact tangent), or the
     explicit ``a0``, ``a1``."""
 
     name: str = "modal analysis"
 
-    def span(self, ctx: RunContext) -> float:
-        return 0.0
-
-    def __call__(self, ctx: RunContext) -> None:
+    def start(self, ctx: RunContext) -> None:
         from bristlecrawler import fe
 
         ctx.report(self.name)
@@ -374,7 +438,7 @@ def _check_resonance(ctx: RunContext, w2: float) -> None:
 
 
 @dataclass(frozen=True)
-class Stroke:
+class Stroke(SteppedStage):
     """Step 2: the prescribed shortening of every segment, recorded step by step, in
     chunks of ``chunk`` simulated seconds (None: a twentieth of a period, at least 0.5 s)
     so that progress moves."""
@@ -385,22 +449,23 @@ class Stroke:
     def span(self, ctx: RunContext) -> float:
         return ctx.spec.actuation.stroke_duration(ctx.spec.segments)
 
-    def __call__(self, ctx: RunContext) -> None:
-        spec = ctx.spec
+    def start(self, ctx: RunContext) -> None:
         ctx.report("")
         ctx.records.append(jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params)))
-        chunk = self.chunk or max(spec.actuation.period / 20.0, 0.5)
-        t, t_end = float(ctx.state.t), float(ctx.state.t) + self.span(ctx)
-        wall0, it0 = time.perf_counter(), ctx.iterations
-        while t < t_end - 1e-9:
-            ctx.advance(min(t + chunk, t_end), spec.solver.dt_max, "stroke", check=True)
-            t = float(ctx.state.t)
+        ctx.marks["stroke"] = (time.perf_counter(), ctx.iterations)
+
+    def stepping(self, ctx: RunContext) -> Advance:
+        chunk = self.chunk or max(ctx.spec.actuation.period / 20.0, 0.5)
+        return Advance(self.span(ctx), chunk, ctx.spec.solver.dt_max, check=True)
+
+    def finish(self, ctx: RunContext) -> None:
+        wall0, it0 = ctx.marks.pop("stroke")
         ctx.stats["stroke_wall_time_s"] = time.perf_counter() - wall0
         ctx.stats["stroke_newton_iterations"] = ctx.iterations - it0
 
 
 @dataclass(frozen=True)
-class Hold:
+class Hold(SteppedStage):
     """Keep recording for ``duration`` s after the stroke with the actuators at rest (the
     crawler settles; a user stage of the simplest kind)."""
 
@@ -410,14 +475,15 @@ class Hold:
     def span(self, ctx: RunContext) -> float:
         return self.duration
 
-    def __call__(self, ctx: RunContext) -> None:
+    def start(self, ctx: RunContext) -> None:
         if not (math.isfinite(self.duration) and self.duration > 0):
             raise InputError(f"Hold duration must be a positive number of s, got {self.duration}")
         if not ctx.records:
             raise InputError("Hold records after the stroke: put it after Stroke()")
         ctx.report(self.name)
-        t_end = float(ctx.state.t) + self.duration
-        ctx.advance(t_end, ctx.spec.solver.dt_max, self.name, check=True)
+
+    def stepping(self, ctx: RunContext) -> Advance:
+        return Advance(self.duration, self.duration, ctx.spec.solver.dt_max, check=True)
 
 
 DEFAULT_STAGES: tuple[Stage, ...] = (Settle(), ModalDamping(), Stroke())

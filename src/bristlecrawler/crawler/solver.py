@@ -133,7 +133,7 @@ class Solver:
 
         return fe.StepControl(self.grow, self.easy_iterations)
 
-    def integrator(self, max_penetration: float):
+    def integrator(self, penetration_limit: float):
         """The :class:`fe.Integrator` of these settings."""
         from bristlecrawler import fe
 
@@ -141,5 +141,5 @@ class Solver:
             self.hht_alpha,
             newton=self.newton,
             predictor=self.predictor,
-            max_penetration=max_penetration,
+            penetration_limit=penetration_limit,
         )

@@ -21,6 +21,7 @@ import numpy as np
 
 from bristlecrawler.crawler.solver import Solver
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.options import renamed
 
 #: Largest inclination from the vertical a bristle may have, degrees.
 ALPHA_LIMIT_DEG = 80.0
@@ -145,6 +146,7 @@ class Bristle:
             raise InputError(f"{where}.position must be finite, got {self.position}")
 
 
+@renamed(max_penetration="penetration_limit")
 @dataclass(frozen=True)
 class Contact:
     """Contact of the bristles with the rigid substrate (penalty Coulomb friction).
@@ -162,7 +164,9 @@ class Contact:
             penalty load, mm.
         active_points: broad phase, contact points evaluated per Newton iteration (the
             ones reaching lowest); None: every point.
-        max_penetration: a step that converges deeper than this (mm) is cut.
+        penetration_limit: a step that converges deeper than this (mm) is cut (the
+            penalty's own design penetration is 1e-3 mm at ``penalty_load``);
+            ``max_penetration`` before, still taken with a DeprecationWarning.
     """
 
     mu: float = 0.65
@@ -173,7 +177,7 @@ class Contact:
     penalty_load: float | None = None
     stick_drift: float = 1e-4
     active_points: int | None = 16
-    max_penetration: float = 0.025
+    penetration_limit: float = 0.025
 
     def check(self) -> None:
         if not (math.isfinite(self.mu) and self.mu >= 0):
@@ -183,8 +187,10 @@ class Contact:
         _positive("contact.stick_drift", self.stick_drift)
         if self.penalty_load is not None:
             _positive("contact.penalty_load", self.penalty_load)
-        if not self.max_penetration > 0:
-            raise InputError(f"contact.max_penetration must be > 0 mm, got {self.max_penetration}")
+        if not self.penetration_limit > 0:
+            raise InputError(
+                f"contact.penetration_limit must be > 0 mm, got {self.penetration_limit}"
+            )
         if self.active_points is not None and self.active_points < 1:
             raise InputError(f"contact.active_points must be >= 1, got {self.active_points}")
 
@@ -381,13 +387,18 @@ class CrawlerSpec:
                 )
 
     def _check_stroke(self) -> None:
-        """Each segment must stay longer than the overlap of its two bristles' tips."""
-        peak = self.actuation.peak
+        self.check_clearance(self.actuation.peak)
+
+    def check_clearance(self, peak: float) -> None:
+        """InputError if a shortening of ``peak`` (mm) of a segment brings its two bristles
+        into each other: their clamps sit the segment apart, each reaches length *
+        sin(alpha) along the body from its clamp (the tips trail), and the clamps are
+        thickness_clamp thick. The one rule for the spec and the scenario file."""
         for i in range(self.segments):
             a, b = self.bristles[i], self.bristles[i + 1]
             gap = b.position - a.position
-            # Tips trail by length sin(alpha); the closest approach of the two bristles'
-            # footprints along the body, with the sections' half thickness at the clamps.
+            # The closest approach of the two bristles' footprints along the body, with
+            # the sections' half thickness at the clamps.
             ext_a = (
                 min(0.0, -a.length * math.sin(a.alpha)),
                 max(0.0, -a.length * math.sin(a.alpha)),
@@ -399,8 +410,11 @@ class CrawlerSpec:
             room = gap + ext_b[0] - ext_a[1] - 0.5 * (a.thickness_clamp + b.thickness_clamp)
             if not peak < room:
                 raise InputError(
-                    f"actuation: a shortening of {peak:g} mm brings bristles {i} and {i + 1} "
-                    f"into each other (segment {gap:g} mm leaves {room:.3g} mm between them)"
+                    f"actuation: a peak shortening of {peak:g} mm (actuation.s_max or the "
+                    f"history) brings the clamps of bristles {i} and {i + 1} "
+                    f"{gap - peak:g} mm apart; the bristles overlap unless that exceeds "
+                    f"their reach along the body and clamps, {gap - room:.3g} mm (bristle "
+                    "length * sin(alpha) + thickness_clamp)"
                 )
 
     def positions(self) -> np.ndarray:

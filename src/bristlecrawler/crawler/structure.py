@@ -30,7 +30,7 @@ STRUCTURE_KEYS = (
     "contact.discs",
     "contact.corners",
     "contact.active_points",
-    "contact.max_penetration",
+    "contact.penetration_limit",
     "damping.kind",
     "actuation.",
     "solver.hht_alpha",

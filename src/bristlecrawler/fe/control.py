@@ -3,10 +3,27 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import Any, NamedTuple
 
+import jax
 import jax.numpy as jnp
+import numpy as np
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
+
+
+class Outcome(NamedTuple):
+    """What the step rule makes of an attempted step: its ``status`` (STEP_ERROR for a
+    converged step the energy check refuses, STEP_TOO_SMALL for a failure that ends the
+    run), the ``cause`` (the status before STEP_TOO_SMALL), whether it is accepted
+    (``good``), the next step size ``dt`` (s), and whether the run ends (``failed``)."""
+
+    status: Any
+    cause: Any
+    good: Any
+    dt: Any
+    failed: Any
 
 
 @dataclasses.dataclass(frozen=True)
@@ -14,10 +31,12 @@ class StepControl:
     """Halve a step that fails; after a step that converged within ``easy_iterations``
     Newton iterations, grow the next one by ``grow`` (up to the stepper's largest step).
 
-    One object, one set of defaults, used by :func:`fe.integrate`, both adaptive drivers
-    (:func:`fe.make_driver`, :func:`fe.make_host_driver`), the contact verification
-    stepper and the crawler runs (``[solver] grow, easy_iterations``). Hashable, so it is
-    part of the drivers' caches."""
+    One object, one set of defaults and one rule (:meth:`decide`), used by
+    :func:`fe.integrate`, the adaptive drivers (:func:`fe.make_driver`,
+    :func:`fe.make_host_driver`, :func:`fe.make_batch_driver`), the load stepping of
+    :func:`fe.solve_static`, the contact verification stepper and the crawler runs
+    (``[solver] grow, easy_iterations``). Hashable, so it is part of the drivers'
+    caches."""
 
     grow: float = 1.5
     easy_iterations: int = 4
@@ -41,6 +60,38 @@ class StepControl:
             return min(dt * self.grow, dt_max) if easy else dt
         grown = jnp.where(easy, jnp.minimum(dt * self.grow, dt_max), dt)
         return jnp.where(good, grown, 0.5 * h)
+
+    def decide(self, status, iterations, h, dt, dt_min, dt_max, ratio=None) -> Outcome:
+        """The rule for a step of ``h`` (s), attempted at step size ``dt``, that ended with
+        ``status`` after ``iterations`` Newton iterations; ``ratio``: its energy check's
+        error over the bound (None: no check).
+
+        A converged step whose ratio is above 1 (or NaN) is refused (STEP_ERROR). An
+        accepted step is easy within ``easy_iterations`` and, with a check, when a step
+        ``grow**3`` times as long would still pass it (the error grows about as h^3);
+        the next step then grows. A failed step is halved; the run ends when half of it
+        is below ``dt_min`` or its status is fatal (:data:`status.FATAL`, which a
+        smaller step cannot cure). Works on Python numbers (host loops) and traced
+        arrays (compiled loops) alike."""
+        args = (status, iterations, h, dt, ratio)
+        if any(isinstance(a, jax.Array) for a in args):
+            return self._decide(jnp, status, iterations, h, dt, dt_min, dt_max, ratio)
+        out = self._decide(np, np.asarray(status), iterations, h, dt, dt_min, dt_max, ratio)
+        return Outcome(int(out[0]), int(out[1]), bool(out[2]), float(out[3]), bool(out[4]))
+
+    def _decide(self, xp, status, iterations, h, dt, dt_min, dt_max, ratio) -> Outcome:
+        easy = xp.asarray(iterations <= self.easy_iterations)
+        if ratio is not None:
+            refused = (status == SUCCESS) & ~(ratio <= 1.0)
+            status = xp.where(refused, STEP_ERROR, status)
+            easy = easy & (ratio * self.grow**3 <= 1.0)
+        good = xp.asarray(status == SUCCESS)
+        grown = xp.where(easy, xp.minimum(dt * self.grow, dt_max), dt)
+        nxt = xp.where(good, grown, 0.5 * h)
+        fatal = xp.asarray(is_fatal(status))
+        failed = ~good & ((0.5 * h < dt_min) | fatal)
+        final = xp.where(failed & ~fatal, STEP_TOO_SMALL, status)
+        return Outcome(final, status, good, nxt, failed)
 
 
 #: The defaults, as a default argument.

@@ -32,7 +32,7 @@ from bristlecrawler.fe.dynamics import (
     step_solver,
 )
 from bristlecrawler.fe.programs import stored
-from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
+from bristlecrawler.fe.status import SUCCESS
 
 
 @pytree()
@@ -124,23 +124,14 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
     def end(c, new, info, h, params, t_end, dt_min, dt_max, checked=True):
         carry, buf, k, _, last = c
         rec = observe(new, params)
-        easy = info.iterations <= control.easy_iterations
-        if check is not None:
-            # ``checked`` False (a batch's stage without the check) gives the loop of
-            # check=None: no step is refused, and the growth test is the plain one.
-            ratio = jnp.where(checked, check(last, rec), 0.0)
-            refused = (info.status == SUCCESS) & ~(ratio <= 1.0)
-            info = dataclasses.replace(info, status=jnp.where(refused, STEP_ERROR, info.status))
-            easy = easy & (ratio * control.grow**3 <= 1.0)
-        good = info.status == SUCCESS
+        # ``checked`` False (a batch's stage without the check) gives the loop of
+        # check=None: no step is refused, and the growth test is the plain one.
+        ratio = None if check is None else jnp.where(checked, check(last, rec), 0.0)
+        out = control.decide(info.status, info.iterations, h, carry.dt, dt_min, dt_max, ratio)
+        good, dt, failed, cause = out.good, out.dt, out.failed, out.cause
+        info = dataclasses.replace(info, status=out.status)
         last = jax.tree.map(lambda r, o: jnp.where(good, r, o), rec, last)
         buf = jax.tree.map(lambda b, r: b.at[k].set(jnp.where(good, r, b[k])), buf, rec)
-        dt = control.next_dt(carry.dt, h, good, easy, dt_max)
-        fatal = is_fatal(info.status)  # a smaller step cannot cure it
-        failed = ~good & ((0.5 * h < dt_min) | fatal)
-        cause = info.status
-        too_small = failed & ~fatal
-        info = dataclasses.replace(info, status=jnp.where(too_small, STEP_TOO_SMALL, info.status))
         nxt = DriverCarry(
             state=jax.tree.map(lambda n, o: jnp.where(good, n, o), new, carry.state),
             dt=dt,
@@ -334,19 +325,16 @@ def make_host_driver(
             h = min(dt, t_end - float(state.t))
             new, info = step(state, params, jnp.asarray(h))
             status, its = int(info.status), int(info.iterations)
-            rec = None
-            easy = its <= control.easy_iterations
+            rec, ratio = None, None
             if accept is not None and status == SUCCESS:
                 rec = obs(new, params)
                 ratio = float(accept(last, rec))
-                if not ratio <= 1.0:
-                    status = STEP_ERROR
-                    info = dataclasses.replace(info, status=jnp.asarray(STEP_ERROR))
-                easy = easy and ratio * control.grow**3 <= 1.0
-            good = status == SUCCESS
+            out = control.decide(status, its, h, dt, dt_min, dt_max, ratio)
             iterations += its
-            cause = status
-            if good:
+            cause, dt, failed = out.cause, out.dt, out.failed
+            if out.status != status:
+                info = dataclasses.replace(info, status=jnp.asarray(out.status))
+            if out.good:
                 state = new
                 accepted += 1
                 rec = obs(new, params) if rec is None else rec
@@ -354,11 +342,6 @@ def make_host_driver(
                 last = rec
             else:
                 rejected += 1
-            dt = control.next_dt(dt, h, good, easy, dt_max)
-            if not good:
-                failed = dt < dt_min or bool(is_fatal(status))
-                if failed and not is_fatal(status):
-                    info = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))
         carry = DriverCarry(
             state=state,
             dt=jnp.asarray(dt),

@@ -35,7 +35,7 @@ from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions, newton_parts
-from bristlecrawler.fe.options import compose
+from bristlecrawler.fe.options import compose, renamed
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     PENETRATION,
@@ -44,7 +44,6 @@ from bristlecrawler.fe.status import (
     SUCCESS,
     UNSUPPORTED_DAMPING,
     StepInfo,
-    is_fatal,
     message,
 )
 from bristlecrawler.fe.terms import (
@@ -68,6 +67,7 @@ class DynState:
     history: tuple
 
 
+@renamed(max_penetration="penetration_limit")
 @dataclasses.dataclass(frozen=True)
 class Integrator:
     """Time integration scheme and the Newton settings of its steps (static: part of the
@@ -82,7 +82,7 @@ class Integrator:
     predictor. ``max_correction`` does not cap the predictor; with
     ``predictor="constant"`` it caps the first correction.
 
-    max_penetration: a converged step whose committed contact state has a penetration
+    penetration_limit: a converged step whose committed contact state has a penetration
     deeper than this (mm; terms that report one, see :mod:`terms`) is rejected with status
     PENETRATION, so an adaptive driver cuts it (default: no limit).
     max_rotation: largest nodal rotation change (rad) accepted in one step, as in statics:
@@ -99,7 +99,7 @@ class Integrator:
     gamma: float = 0.55
     newton: NewtonOptions = DEFAULT_NEWTON
     predictor: str = "tangent"
-    max_penetration: float = math.inf
+    penetration_limit: float = math.inf
     max_rotation: float = 1.0
 
     def __init__(
@@ -110,7 +110,7 @@ class Integrator:
         newton=None,
         *,
         predictor="tangent",
-        max_penetration=math.inf,
+        penetration_limit=math.inf,
         max_rotation=1.0,
         **settings,
     ):
@@ -122,7 +122,7 @@ class Integrator:
             ("gamma", gamma),
             ("newton", newton),
             ("predictor", predictor),
-            ("max_penetration", max_penetration),
+            ("penetration_limit", penetration_limit),
             ("max_rotation", max_rotation),
         ):
             object.__setattr__(self, name, value)
@@ -133,8 +133,8 @@ class Integrator:
             raise InputError(f"newton must be a NewtonOptions, got {self.newton!r}")
         if not self.max_rotation > 0.0:
             raise InputError(f"max_rotation must be > 0 rad, got {self.max_rotation}")
-        if not self.max_penetration > 0.0:
-            raise InputError(f"max_penetration must be > 0 mm, got {self.max_penetration}")
+        if not self.penetration_limit > 0.0:
+            raise InputError(f"penetration_limit must be > 0 mm, got {self.penetration_limit}")
         if self.predictor not in ("tangent", "constant"):
             raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
 
@@ -291,12 +291,12 @@ def step_result(state, params, dt, kin, solved, topo, terms, ig: Integrator):
     # only because the energy is 2 pi-periodic in the nodal rotations.
     turned = jnp.max(jnp.abs(u1[:, 2] - state.u[:, 2]), initial=0.0) > ig.max_rotation
     status = jnp.where((status == SUCCESS) & turned, ROTATION_LIMIT, status)
-    if math.isfinite(ig.max_penetration):
+    if math.isfinite(ig.penetration_limit):
         # A converged state with a contact point deep in a solid is a wrong root: with
         # penalty contact a rigid corner that reaches the medial axis of a thin beam
         # end is pushed out through the other face (tunnelling); a smaller step keeps
         # Newton's iterates near the contact surface.
-        too_deep = max_penetration(terms, h1, params) > ig.max_penetration
+        too_deep = max_penetration(terms, h1, params) > ig.penetration_limit
         status = jnp.where((status == SUCCESS) & too_deep, PENETRATION, status)
     status = flag_overflow(terms, u1, params, status)
     if not topo.stiffness_damping:
@@ -424,26 +424,21 @@ def integrate(
         h_try = min(h, t_end - t)
         new, info = step(state, params, jnp.asarray(h_try))
         infos.append(info)
-        if int(info.status) == SUCCESS:
+        out = control.decide(int(info.status), int(info.iterations), h_try, h, dt_min, dt_max)
+        h = out.dt
+        if out.good:
             state, t = new, float(new.t)
             times.append(t)
             if observe is not None:
                 observed.append(observe(state))
-            h = control.next_dt(
-                h, h_try, True, int(info.iterations) <= control.easy_iterations, dt_max
-            )
             continue
         rejected += 1
-        h = control.next_dt(h, h_try, False, False, dt_max)
-        if is_fatal(int(info.status)):
-            msg = message(info, f"dynamics, step {len(times) + 1}")
-            if throw:
-                raise SolverError(msg)
-            return DynResult(state, np.asarray(times), observed, infos, False, msg, rejected)
-        if h < dt_min:
+        if out.failed:
             where = f"dynamics, step {len(times) + 1}"
-            msg = message(info, where) + f"; dt cut below dt_min = {dt_min:g} s"
-            infos[-1] = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))
+            msg = message(info, where)
+            if out.status == STEP_TOO_SMALL:
+                msg += f"; dt cut below dt_min = {dt_min:g} s"
+                infos[-1] = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))
             if throw:
                 raise SolverError(msg)
             return DynResult(state, np.asarray(times), observed, infos, False, msg, rejected)

@@ -23,12 +23,10 @@ from bristlecrawler.fe.newton import NewtonOptions, newton
 from bristlecrawler.fe.options import compose
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
-    CONTACT_OVERFLOW,
     ROTATION_LIMIT,
     STEP_TOO_SMALL,
     SUCCESS,
     StepInfo,
-    check,
     message,
 )
 from bristlecrawler.fe.terms import commit_all, flag_overflow, init_histories
@@ -174,43 +172,26 @@ def solve_static(
     while lam < 1.0:
         target = min(1.0, lam + dlam)
         q1, u1, info = solver(q, params, jnp.asarray(float(t)), jnp.asarray(target), hist)
-        infos.append(info)
         u_prev = assembly.expand(q, t, lam, params, topo)
         too_far = float(jnp.max(jnp.abs(u1[:, 2] - u_prev[:, 2]))) > options.max_rotation
-        if int(info.status) == SUCCESS and not too_far:
+        status = int(info.status)
+        if too_far and status == SUCCESS:
+            status = ROTATION_LIMIT
+        out = options.control.decide(
+            status, int(info.iterations), dlam, dlam, options.min_increment, options.max_increment
+        )
+        dlam = out.dt
+        if out.status != int(info.status):
+            info = dataclasses.replace(info, status=jnp.asarray(out.status))
+        infos.append(info)
+        if out.good:
             lam, q = target, q1
             hist = commit_all(model.terms, u1, jnp.zeros_like(u1), t, hist, params)
-            easy = int(info.iterations) <= options.control.easy_iterations
-            dlam = options.control.next_dt(dlam, dlam, True, easy, options.max_increment)
-            continue
-        if too_far and int(info.status) == SUCCESS:
-            info = dataclasses.replace(info, status=jnp.asarray(ROTATION_LIMIT))
-            infos[-1] = info
-        dlam = options.control.next_dt(dlam, dlam, False, False, options.max_increment)
-        if int(info.status) == CONTACT_OVERFLOW:  # a smaller increment cannot cure it
-            msg = message(info, f"static solve, increment {len(infos)}")
-            if throw:
-                from bristlecrawler.errors import SolverError
-
-                raise SolverError(msg)
-            u = assembly.expand(q, t, lam, params, topo)
-            return StaticResult(
-                StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(lam)), infos, False, msg
-            )
-        if dlam < options.min_increment:
+        elif out.failed:
             where = f"static solve, increment {len(infos)}"
-            msg = message(info, where) + f"; increment cut below {options.min_increment:g}"
-            bad = StepInfo(
-                jnp.asarray(STEP_TOO_SMALL),
-                info.iterations,
-                info.residual,
-                info.rel_residual,
-                info.t,
-                info.dt,
-                info.lam,
-            )
-            infos[-1] = bad
-            check(bad, where, throw=False)
+            msg = message(info, where)
+            if out.status == STEP_TOO_SMALL:
+                msg += f"; increment cut below {options.min_increment:g}"
             if throw:
                 from bristlecrawler.errors import SolverError
 

@@ -18,7 +18,7 @@ batched:
 
 A term may also define ``penetration(history, params) -> float``: the deepest penetration
 (mm) of a committed history; the dynamic step rejects a converged step where it exceeds
-``Integrator.max_penetration`` (:func:`max_penetration`). A term with a fixed-capacity
+``Integrator.penetration_limit`` (:func:`max_penetration`). A term with a fixed-capacity
 broad phase (a non-None ``active`` attribute) defines ``excess(u, params) -> int``, the
 count beyond its capacity at a state; the solvers turn a converged state with a non-zero
 excess into the fatal status CONTACT_OVERFLOW (:func:`broad_phase_excess`).

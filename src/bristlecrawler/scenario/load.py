@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 import tomllib
+import warnings
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -44,9 +45,39 @@ def shipped_scenario_text(name: str) -> str:
     return resource.read_text(encoding="utf-8")
 
 
+#: Keys of a scenario file that were renamed: still read, with a warning line.
+RENAMED_KEYS = {"contact.max_penetration": "contact.penetration_limit"}
+
+
+class DeprecatedKeyWarning(FutureWarning):
+    """A scenario file or ``--set`` uses the old name of a renamed key."""
+
+
+def _renamed_key(old: str) -> str:
+    new = RENAMED_KEYS[old]
+    warnings.warn(f"{old} is deprecated: use {new}", DeprecatedKeyWarning, stacklevel=3)
+    return new
+
+
+def _new_names(data: dict[str, Any]) -> dict[str, Any]:
+    """``data`` with the renamed keys under their new names (a warning for each)."""
+    for old in RENAMED_KEYS:
+        section, key = old.split(".")
+        table = data.get(section)
+        if isinstance(table, dict) and key in table:
+            new_section, new_key = _renamed_key(old).split(".")
+            if new_key in table:
+                raise InputError(f"{new_section}: give {new_key}, not both it and {key}")
+            table = dict(table)
+            table[new_key] = table.pop(key)
+            data = {**data, section: table}
+    return data
+
+
 def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenario:
     """Validate a mapping (e.g. a parsed TOML document) into a :class:`Scenario`."""
     try:
+        data = _new_names(data)
         if isinstance(data.get("substrate"), dict):
             try:
                 check_substrate_scale(data["substrate"])
@@ -162,6 +193,7 @@ def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
     so the new kind's keys follow it."""
     data = sc.model_dump()
     for key, value in values.items():
+        key = _renamed_key(key) if key in RENAMED_KEYS else key
         *path, last = key.split(".")
         if path == ["substrate"] and last == "kind" and value != data["substrate"]["kind"]:
             # Another kind of texture: none of the old kind's keys apply (its mu does).

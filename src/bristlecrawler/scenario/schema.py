@@ -10,7 +10,16 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from bristlecrawler.crawler.spec import Actuation, Body, Bristle, Contact, Damping, Solver
+from bristlecrawler.crawler.spec import (
+    ALPHA_LIMIT_DEG,
+    Actuation,
+    Body,
+    Bristle,
+    Contact,
+    Damping,
+    Solver,
+)
+from bristlecrawler.errors import InputError
 from bristlecrawler.scenario.strict import SafeName, StrictSection, section_of
 from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
 
@@ -79,8 +88,8 @@ class BristleConfig(_Section):
     )
     alpha_deg: float = Field(
         _BRISTLE.alpha_deg,
-        gt=-80.0,
-        lt=80.0,
+        gt=-ALPHA_LIMIT_DEG,
+        lt=ALPHA_LIMIT_DEG,
         allow_inf_nan=False,
         description="inclination from the vertical, degrees; tips trail (positive: sliding "
         "along the grain is rightward)",
@@ -237,8 +246,8 @@ class ContactConfig(_Section):
         "points reach below the substrate's top (the paper run has up to 7); a run where "
         "more do stops with an error naming this parameter. null: every point",
     )
-    max_penetration: float = Field(
-        _CONTACT.max_penetration,
+    penetration_limit: float = Field(
+        _CONTACT.penetration_limit,
         gt=0.0,
         allow_inf_nan=True,
         description="deepest contact penetration of a converged time step, mm: a deeper one "
@@ -319,23 +328,21 @@ def check_step_count(sc: Scenario, duration: float) -> None:
 
 def check_bristles_clear(sc: Scenario, s_max: float) -> None:
     """ValueError if neighbouring bristles overlap at the peak shortening ``s_max`` (mm) of
-    a segment. Their clamps sit a segment apart (the body length over count - 1), segment
-    - s~ at the peak; each bristle reaches length * sin(alpha) along the body from its
-    clamp (the tips trail), and the clamp is thickness_clamp thick."""
-    import math
+    a segment (the spec's rule, :meth:`CrawlerSpec.check_clearance`)."""
+    from bristlecrawler.crawler.spec import CrawlerSpec, uniform_bristles
 
-    gap = sc.body.length / (sc.bristle.count - 1) - s_max
-    reach = sc.bristle.length * abs(math.sin(math.radians(sc.bristle.alpha_deg)))
-    need = reach + sc.bristle.thickness_clamp
-    if gap <= need:
-        raise ValueError(
-            f"a peak shortening of {s_max:g} mm (actuation.s_max or the history) brings the "
-            "bristle clamps "
-            f"{gap:g} mm apart at peak shortening (the segment length minus s_max); the "
-            "bristles overlap "
-            f"unless that exceeds bristle.length * sin(alpha) + bristle.thickness_clamp = "
-            f"{need:.3g} mm"
-        )
+    b = sc.bristle
+    template = Bristle(
+        length=b.length,
+        alpha_deg=b.alpha_deg,
+        thickness_clamp=b.thickness_clamp,
+        thickness_tip=b.thickness_tip,
+    )
+    spec = CrawlerSpec(bristles=uniform_bristles(b.count, sc.body.length, template))
+    try:
+        spec.check_clearance(s_max)
+    except InputError as exc:
+        raise ValueError(str(exc).removeprefix("actuation: ")) from None
 
 
 def check_substrate_scale(sub: dict) -> None:

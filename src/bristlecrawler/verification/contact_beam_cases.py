@@ -173,7 +173,7 @@ def _press_and_drag(alpha, mu, press, direction, dt, steps_to_slip):
     scale = max(ref.normal_at_press, ref.normal_in_slip)
     # penetration and stick drift 1e-4 of the press: the plane is rigid to 1e-4
     law = CoulombLaw.for_reference_load(
-        mu, load=scale, max_penetration=1e-4 * press, max_stick_drift=1e-4 * press
+        mu, load=scale, design_penetration=1e-4 * press, max_stick_drift=1e-4 * press
     )
     # The drive speed only needs the order of magnitude of the onset (found up to 1.5 x).
     t_slip = steps_to_slip * dt
@@ -354,7 +354,7 @@ def grooved_drag_fe(
     cuts steps only when Newton fails). HHT alpha = -0.2 with the monotone line search
     (:data:`DRAG_HHT`) unless ``integrator`` is given.
     """
-    law = CoulombLaw.for_reference_load(mu, load=1.0, max_penetration=1e-4)
+    law = CoulombLaw.for_reference_load(mu, load=1.0, design_penetration=1e-4)
     # the lower corner of the end face: h1/2 from the axis on the side facing the
     # substrate (-e_b, e_b = (cos alpha, sin alpha) the normal of the axis)
     offset = (

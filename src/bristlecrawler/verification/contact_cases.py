@@ -123,7 +123,7 @@ def run_resolving(
     Raises SolverError if a step must be cut below ``dt_min`` (default dt / 1e4).
     """
     from bristlecrawler.errors import SolverError
-    from bristlecrawler.fe.status import SUCCESS, message
+    from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, message
 
     control = control or fe.StepControl()
     dt_min = dt * 1e-4 if dt_min is None else dt_min
@@ -135,22 +135,22 @@ def run_resolving(
     while t < t_end - 1e-12 * max(1.0, abs(t_end)):
         h_try = min(h, t_end - t)
         new, info = step(state, params, jnp.asarray(h_try))
-        ok = int(info.status) == SUCCESS
-        if ok and (
-            h_try <= dt_floor or float(_slip_dp(state.history[0], new.history[0])) <= max_dp
-        ):
+        status = int(info.status)
+        if status == SUCCESS and h_try > dt_floor:
+            if float(_slip_dp(state.history[0], new.history[0])) > max_dp:
+                status = STEP_ERROR  # converged, but too long for the slip's accuracy
+        out = control.decide(status, int(info.iterations), h_try, h, dt_min, dt)
+        h = out.dt
+        if out.good:
             state, t = new, float(new.t)
             times.append(t)
             observed.append(observe(state))
-            h = control.next_dt(h, h_try, True, int(info.iterations) <= control.easy_iterations, dt)
             continue
         rejected += 1
-        h = control.next_dt(h, h_try, False, False, dt)
-        if h < dt_min:
-            raise SolverError(
-                message(info, f"dynamics, step {len(times) + 1}")
-                + f"; dt cut below dt_min = {dt_min:g} s"
-            )
+        if out.failed:
+            msg = message(info, f"dynamics, step {len(times) + 1}")
+            cut = out.status == STEP_TOO_SMALL
+            raise SolverError(msg + (f"; dt cut below dt_min = {dt_min:g} s" if cut else ""))
     return ResolvedRun(np.asarray(times), jax.device_get(observed), rejected)
 
 
