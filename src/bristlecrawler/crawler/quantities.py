@@ -116,6 +116,7 @@ class Quantity:
 
     @property
     def home(self) -> str:
+        """Where the history keeps it (``field``, else ``name``)."""
         return self.field or self.name
 
     def value(self, h: CrawlerHistory):
