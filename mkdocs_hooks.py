@@ -1,18 +1,25 @@
-"""MkDocs hook: the scenario reference is generated from the schema at build time.
+"""MkDocs hook: reference tables are generated from the code at build time.
 
 A page with the line ``<!-- scenario-keys -->`` gets the tables of
-``bristlecrawler scenario keys --markdown`` in its place, so the reference cannot drift
+``bristlecrawler scenario keys --markdown`` in its place, and one with
+``<!-- crawler-variables -->`` the table of ``crawler.nc``'s variables from their
+declarations (``bristlecrawler.crawler.quantities``), so the references cannot drift
 from the code.
 """
 
 from __future__ import annotations
 
 MARKER = "<!-- scenario-keys -->"
+CRAWLER_VARIABLES = "<!-- crawler-variables -->"
 
 
 def on_page_markdown(markdown: str, page, config, files) -> str:
-    if MARKER not in markdown:
-        return markdown
-    from bristlecrawler.scenario.keys import keys_markdown
+    if MARKER in markdown:
+        from bristlecrawler.scenario.keys import keys_markdown
 
-    return markdown.replace(MARKER, keys_markdown())
+        markdown = markdown.replace(MARKER, keys_markdown())
+    if CRAWLER_VARIABLES in markdown:
+        from bristlecrawler.crawler.quantities import quantities_markdown
+
+        markdown = markdown.replace(CRAWLER_VARIABLES, quantities_markdown())
+    return markdown

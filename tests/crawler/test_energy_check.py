@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from bristlecrawler.crawler.history import CrawlerHistory
-from bristlecrawler.crawler.runner import EnergyCheck, energy_series
+from bristlecrawler.crawler.record import EnergyCheck, energy_series
 
 finite = st.floats(-10.0, 10.0, allow_nan=False)
 

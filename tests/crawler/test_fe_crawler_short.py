@@ -94,6 +94,27 @@ def test_forces_are_the_friction_scale_and_dissipation_never_decreases(run):
     assert 1.0 < h.stats["first_frequency_hz"] < 1e3
 
 
+def test_the_dataset_holds_every_declared_quantity_with_its_unit(run):
+    """The history that the declarations (crawler/quantities.py) make from the records
+    has every declared quantity, and crawler.nc writes each with its dims and
+    attributes, and nothing undeclared."""
+    from bristlecrawler.crawler.quantities import QUANTITIES
+
+    _, h = run
+    ds = h.to_dataset()
+    assert list(ds.variables) == [
+        *(q.name for q in QUANTITIES if not q.coordinate),
+        *(q.name for q in QUANTITIES if q.coordinate),
+    ]
+    for q in QUANTITIES:
+        v = ds[q.name]
+        assert v.dims == q.dims and v.attrs.get("units", "") == q.unit, q.name
+        assert v.attrs.get("long_name", q.description) == q.description, q.name
+    assert ds.sizes["bristle"] == 2 and ds.sizes["segment"] == 1
+    np.testing.assert_array_equal(ds["connector_work"], ds["energy_external"])
+    assert h.quantities == {}  # every declared series has an attribute of its own
+
+
 def test_runs_of_one_structure_share_the_observer_and_use_their_own_laws():
     """The observer is built once per model structure, so a second run in the same
     process does not trace it again; the contact law it reports penalty energies with is

@@ -50,6 +50,15 @@ def test_scenario_reference_is_generated_from_the_schema(site):
         assert f"<code>{key.key.split('.')[-1]}</code>" in html, key.key
 
 
+def test_output_reference_lists_every_declared_crawler_variable(site):
+    from bristlecrawler.crawler.quantities import MARKER, QUANTITIES
+
+    html = (site / "reference" / "outputs" / "index.html").read_text()
+    assert MARKER not in html
+    for q in QUANTITIES:
+        assert f"<td><code>{q.name}</code></td>" in html, q.name
+
+
 def test_api_reference_documents_the_reduced_model(site):
     html = (site / "reference" / "api" / "index.html").read_text()
     for name in ("ReducedCrawler", "simulate", "calibrate", "analyze", "load_scenario"):

@@ -90,6 +90,11 @@ class CrawlerHistory:
             (``connector_force`` is the first segment's; ``connector_work`` is the work of
             all of them).
         name: the design's name.
+        quantities: the declared quantities (:mod:`.quantities`) that have no attribute of
+            their own, by name.
+
+    The unit, dimensions and meaning of each recorded series are declared once, in
+    :data:`bristlecrawler.crawler.quantities.QUANTITIES`.
     """
 
     t: np.ndarray
@@ -113,6 +118,7 @@ class CrawlerHistory:
     segment_shortening: np.ndarray | None = None
     segment_force: np.ndarray | None = None
     name: str = "custom"
+    quantities: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def delta(self) -> np.ndarray:

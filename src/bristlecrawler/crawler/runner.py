@@ -24,11 +24,10 @@ from typing import Protocol
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build
-from bristlecrawler.crawler.record import EnergyCheck, Records, energy_series
+from bristlecrawler.crawler.record import EnergyCheck, Records
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError, SolverError
 
@@ -520,17 +519,13 @@ def run_stages(crawler, stages: Sequence[Stage], options=None, on_progress=None)
 
 
 def history_of(ctx: RunContext) -> CrawlerHistory:
-    """The :class:`CrawlerHistory` of a ctx's records (times from the stroke's start)."""
-    from bristlecrawler.contact.profile import drawing
+    """The :class:`CrawlerHistory` of a ctx's records (times from the stroke's start): its
+    series are the declared quantities (:mod:`.quantities`), computed from the records."""
+    from bristlecrawler.crawler.quantities import RunRecords, history_fields
 
-    cm, spec, records = ctx.crawler, ctx.spec, ctx.records
-    t, x, fc, s, en = (records.column(k) for k in ("t", "x", "fc", "stretch", "energies"))
-    energies = energy_series(t, fc, s, en)
-    settle = spec.actuation.settle_time
-    surf = drawing(spec.substrate.profile(), x[..., 0].min() - 5.0, x[..., 0].max() + 5.0)
-    a = spec.actuation
+    spec, a = ctx.spec, ctx.spec.actuation
     stats = {
-        "steps": len(records) - 1,
+        "steps": len(ctx.records) - 1,
         "newton_iterations": ctx.iterations,
         "rejected_steps": ctx.rejected,
         "first_frequency_hz": ctx.omega1 / (2 * math.pi),
@@ -539,25 +534,9 @@ def history_of(ctx: RunContext) -> CrawlerHistory:
         **ctx.stats,
     }
     return CrawlerHistory(
-        t=t - settle,
-        s=s[:, 0],
-        left=x[:, cm.left],
-        right=x[:, cm.right],
-        connector_force=fc[:, 0],
-        connector_work=energies["external"],
-        tip_position=np.stack([x[:, tip] for tip in cm.tips], axis=1),
-        tip_state=records.column("tip_state"),
-        energies=energies,
-        frame_t=t - settle,
-        frame_nodes=x,
-        lines=cm.lines,
-        line_kind=cm.line_kind,
-        substrate_xy=np.asarray(surf),
+        **history_fields(RunRecords(ctx.records, ctx.crawler, spec)),
         period=a.period if a.history is None else None,
         cycles=a.cycles,
         stats=stats,
-        node_thickness=cm.node_thickness(),
-        segment_shortening=s,
-        segment_force=fc,
         name=spec.name,
     )
