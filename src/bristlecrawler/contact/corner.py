@@ -47,7 +47,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.contact._pytree import pytree_dataclass
+from bristlecrawler._pytree import pytree
 from bristlecrawler.contact.corner_tangent import WINDOW, near_forces
 from bristlecrawler.contact.coulomb import (
     CoulombLaw,
@@ -92,7 +92,7 @@ def beam_outline(chain, thickness, normal) -> tuple[tuple[int, ...], np.ndarray]
     return nodes, offsets
 
 
-@pytree_dataclass
+@pytree()
 class FaceParams:
     """Numeric parameters of a :class:`FaceCornerContact` (batchable leaves).
 
@@ -118,7 +118,7 @@ class FaceParams:
     law: Any
 
 
-@pytree_dataclass
+@pytree()
 class FaceHistory:
     """Committed history: first period of each outline's corner window ``k0`` (F,), and
     per (outline, window corner) (F, m): stick anchor (mm of face arc length), cumulative

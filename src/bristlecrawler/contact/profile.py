@@ -29,7 +29,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
+from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
 from bristlecrawler.errors import InputError
 
 # Ranking penalty (mm) for a candidate whose closest point was clamped to an end: such a point
@@ -69,7 +69,7 @@ class Projection(NamedTuple):
     arc_gradient: jax.Array
 
 
-@pytree_dataclass
+@pytree()
 class PeriodicProfile:
     """Periodic chain of segments and fillet arcs: the common form of every substrate.
 

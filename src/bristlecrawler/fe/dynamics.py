@@ -30,9 +30,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler._pytree import pytree
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
-from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions, newton_parts
 from bristlecrawler.fe.options import compose
