@@ -112,9 +112,8 @@ def _closed_form(s, fp, k, n) -> dict[str, np.ndarray]:
 
 def evaluate_reduced(config: dict[str, Any]) -> dict[str, float]:
     """One reduced design with the exact solver (any number of bristles, gait, stroke)."""
-    from bristlecrawler.jobs.reduced import build
     from bristlecrawler.reduced.simulate import simulate
-    from bristlecrawler.scenario.reduced import ReducedConfig
+    from bristlecrawler.scenario.reduced import ReducedConfig, build
     from bristlecrawler.scenario.strict import parse_model
 
     cfg = parse_model(ReducedConfig, config)
