@@ -332,7 +332,7 @@ def _initial_acceleration_fn(topo, terms):
     """Jitted ``(q, t, history, params) -> (u, a)``: one compiled program, so a run's start
     does not dispatch (and compile) the residual op by op (70 s of the paper crawler's start,
     timed under a profiler)."""
-    from bristlecrawler.fe.modal import _mass_fn
+    from bristlecrawler.fe.modal import mass_fn as _mass_fn
 
     @jax.jit
     def fn(q, t, history, params):
