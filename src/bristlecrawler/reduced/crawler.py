@@ -125,8 +125,9 @@ class ReducedCrawler:
         A bristle that resists both ways alike (alpha = 0, F_n within the scatter of F_p)
         gets F_n = F_p. A drag test that never slid one way has no value for it: refused.
 
-        ``model = "texture"`` is deprecated: :meth:`~bristlecrawler.reduced.textured.
-        TexturedCrawler.from_drag` builds the crawler on the drag test's texture law.
+        ``model = "texture"`` (with ``start_mm``) is deprecated: ``TexturedCrawler.from_drag``
+        (:mod:`bristlecrawler.reduced.textured`) builds the crawler on the drag test's
+        texture law.
         """
         if model not in ("paper", "texture"):
             raise InputError(f"reduced model must be paper or texture, got {model!r}")
