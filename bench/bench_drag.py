@@ -23,7 +23,8 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     a = ap.parse_args()
 
-    from bristlecrawler.crawler.drag import DragTest, drag_test, substrate_pitch
+    from bristlecrawler.crawler.drag import DragTest, drag_test
+    from bristlecrawler.crawler.drag_analysis import substrate_pitch
     from bristlecrawler.fe import enable_compilation_cache
     from bristlecrawler.scenario import load_spec
 

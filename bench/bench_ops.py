@@ -58,7 +58,7 @@ def _unwrap(fn):
 def programs(model, integrator, observer):
     """(name, function, arguments) of the programs a run of ``model`` compiles."""
     from bristlecrawler.fe.dynamics import DynState, _initial_acceleration_fn, make_step
-    from bristlecrawler.fe.modal import _mass_fn
+    from bristlecrawler.fe.modal import mass_fn
     from bristlecrawler.fe.static import _tangent_fn
     from bristlecrawler.fe.terms import init_histories
 
@@ -72,7 +72,7 @@ def programs(model, integrator, observer):
         ("initial acceleration", _initial_acceleration_fn(topo, terms), (q, t, hist, params)),
         ("observer", observer, (like, params)),
         ("static tangent", _tangent_fn(topo, terms), (q, params, t, one, hist)),
-        ("modal mass", _mass_fn(topo), (q, params, t, one)),
+        ("modal mass", mass_fn(topo), (q, params, t, one)),
     ]
 
 

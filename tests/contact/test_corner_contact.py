@@ -15,11 +15,10 @@ from bristlecrawler import fe
 from bristlecrawler.contact import CoulombLaw, Grooves
 from bristlecrawler.contact.corner import (
     FaceCornerContact,
-    _pair,
     beam_outline,
     convex_corners,
 )
-from bristlecrawler.contact.outline import clearance
+from bristlecrawler.contact.outline import clearance, pair_gap
 
 
 def test_convex_corners_of_grooves_are_the_land_edges():
@@ -72,7 +71,7 @@ def test_gap_to_a_straight_face_is_the_distance_to_its_line(angle, t, d, rho, si
     are not smoothed)."""
     P, arc, orient, axis, e, nrm = _strip(angle, side)
     C = axis[0] + 0.25 * nrm + t * 3.0 * e + d * nrm
-    g, s = _pair(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), rho)
+    g, s = pair_gap(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), rho)
     to_end = 3.0 * min(t, 1.0 - t)  # inside, an end face may be the nearer boundary
     if d >= 0 or -d < to_end:
         assert float(g) == pytest.approx(d - rho, abs=1e-12)
@@ -90,7 +89,7 @@ def test_corner_beyond_the_end_of_a_strip_is_outside(angle, r, phi):
     P, arc, orient, axis, e, nrm = _strip(angle, 1.0)
     for direction, exact in ((math.cos(phi) * e + math.sin(phi) * nrm, False), (e, True)):
         C = axis[-1] + r * direction
-        g, _ = _pair(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), 0.0)
+        g, _ = pair_gap(jnp.asarray(P), jnp.asarray(arc), orient, jnp.asarray(C), 0.0)
         assert float(g) > 0
         if exact:
             assert float(g) == pytest.approx(r, abs=1e-12)
@@ -116,7 +115,7 @@ def test_gap_and_arc_are_continuous_around_a_bent_outline():
     samples (no jumps at the vertices, on the concave side included)."""
     P, arc, side, _ = _bent_strip()
     xs = np.linspace(0.6, 3.4, 2001)
-    pairs = jax.jit(jax.vmap(_pair, in_axes=(None, None, None, 0, None)))
+    pairs = jax.jit(jax.vmap(pair_gap, in_axes=(None, None, None, 0, None)))
     # inside, on, outside the concave upper face (a plain closest-point projection would
     # jump in s by ~ depth x kink angle = 0.1 x 0.15 mm at every vertex here)
     for depth in (-0.1, 0.0, 0.1):
@@ -141,7 +140,7 @@ def test_gap_gradient_is_continuous_across_an_outline_vertex(depth):
     face of about (half the vertex's turn) x p_N, with opposite signs on the two sides."""
     P, arc, side, nrm = _bent_strip()
     arc = jnp.asarray(arc)
-    grad = jax.jit(jax.grad(lambda P, C: _pair(P, arc, side, C, 0.0)[0], argnums=(0, 1)))
+    grad = jax.jit(jax.grad(lambda P, C: pair_gap(P, arc, side, C, 0.0)[0], argnums=(0, 1)))
     jumps = []
     for v in (2, 3, 6):  # smooth vertices of the upper (+n) face, turns of 8-17 degrees
         n_v = nrm[v] / np.linalg.norm(nrm[v])
@@ -383,7 +382,7 @@ def test_sliding_friction_is_coulomb_on_a_stretched_face(stretch):
 def test_clearance_is_a_lower_bound_on_the_gap(angle, bend, rho, seed):
     """The corner term's broad phase: outside a beam outline (a strip 0.5 mm thick and 4
     mm long, bent with curvature ``2 bend`` and turned by ``angle``) the clearance,
-    distance minus rho, never exceeds the gap of :func:`_pair`, so a pair with positive
+    distance minus rho, never exceeds the gap of :func:`pair_gap`, so a pair with positive
     clearance is open; inside it is -inf and the pair is closed. Corners sampled inside,
     around and beyond the ends of the strip."""
     x = np.linspace(0.0, 4.0, 9)
@@ -399,7 +398,7 @@ def test_clearance_is_a_lower_bound_on_the_gap(angle, bend, rho, seed):
     side = np.sign(np.sum(P[:-1, 0] * P[1:, 1] - P[1:, 0] * P[:-1, 1]))
     rng = np.random.default_rng(seed)
     C = jnp.asarray(rng.uniform(P.min(axis=0) - 1.0, P.max(axis=0) + 1.0, (400, 2)))
-    g, _ = jax.vmap(_pair, in_axes=(None, None, None, 0, None))(
+    g, _ = jax.vmap(pair_gap, in_axes=(None, None, None, 0, None))(
         jnp.asarray(P), jnp.asarray(arc), side, C, rho
     )
     lb = np.asarray(clearance(jnp.asarray(P), C, jnp.full(400, rho)))

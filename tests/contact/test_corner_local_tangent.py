@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from bristlecrawler import fe
 from bristlecrawler.contact import CoulombLaw, Grooves
 from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
-from bristlecrawler.contact.outline import _select
+from bristlecrawler.contact.outline import select_feature
 
 N_EL = 12
 LENGTH = 6.0
@@ -97,7 +97,7 @@ class _Programs:
         def features(u, h, p):
             C, _ = term._window(h.k0, p)
             P = term._points(u, p)[0]
-            return jax.vmap(_select, in_axes=(None, None, 0))(P, p.side[0], C[0])
+            return jax.vmap(select_feature, in_axes=(None, None, 0))(P, p.side[0], C[0])
 
         self.features = jax.jit(features)
         self.current = jax.jit(lambda u, h, p: term._current(u, h.k0, h.anchor, p))

@@ -407,7 +407,7 @@ def _full_ranking(gr, p):
     in full by _segments / _arcs (angles and all): the reference for _distances."""
     from bristlecrawler.contact import profile as P
 
-    c = P._chain(gr.profile())
+    c = P.profile_chain(gr.profile())
     m = jnp.floor((p[0] - c.x0) / c.period)
     dist, clamped = [], []
     for k in (-1.0, 0.0, 1.0):

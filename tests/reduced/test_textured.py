@@ -137,10 +137,21 @@ def test_from_drag_builds_either_model():
     law = TextureLaw.sawtooth(2.0, 0.2, 1.0, cells=4, fn=0.1)
     summary = {"k_N_per_mm": 1.0, "fp_N": 0.2, "fn_N": 0.3, "texture": law.to_dict()}
     paper = ReducedCrawler.from_drag(summary, 3)
-    textured = ReducedCrawler.from_drag(summary, 3, model="texture", start_mm=1.0)
+    textured = TexturedCrawler.from_drag(summary, 3, start_mm=1.0)
     assert isinstance(paper, ReducedCrawler) and isinstance(textured, TexturedCrawler)
     assert textured.n_bristles == 3 and textured.start_mm == 1.0
     with pytest.raises(InputError, match="texture"):
-        ReducedCrawler.from_drag({k: summary[k] for k in ("k_N_per_mm", "fp_N")}, model="texture")
+        TexturedCrawler.from_drag({k: summary[k] for k in ("k_N_per_mm", "fp_N")})
     with pytest.raises(InputError, match="paper or texture"):
         ReducedCrawler.from_drag(summary, model="fe")
+
+
+def test_from_drag_with_model_texture_still_builds_the_textured_crawler():
+    law = TextureLaw.sawtooth(2.0, 0.2, 1.0, cells=4, fn=0.1)
+    summary = {"k_N_per_mm": 1.0, "fp_N": 0.2, "fn_N": 0.3, "texture": law.to_dict()}
+    with pytest.warns(DeprecationWarning, match="TexturedCrawler.from_drag"):
+        old = ReducedCrawler.from_drag(summary, 3, model="texture", start_mm=1.0)
+    new = TexturedCrawler.from_drag(summary, 3, start_mm=1.0)
+    assert [a.to_dict() for a in old.laws] == [b.to_dict() for b in new.laws]
+    assert old.start_mm == new.start_mm
+    np.testing.assert_array_equal(old.segment_lengths, new.segment_lengths)

@@ -47,7 +47,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.contact._pytree import pytree_dataclass
+from bristlecrawler._pytree import pytree
 from bristlecrawler.contact.corner_tangent import WINDOW, near_forces
 from bristlecrawler.contact.coulomb import (
     CoulombLaw,
@@ -55,12 +55,18 @@ from bristlecrawler.contact.coulomb import (
     generalized_forces,
     return_map,
 )
-from bristlecrawler.contact.outline import _pair, _select, clearance, current_arc, reference_arc
-from bristlecrawler.contact.profile import _chain
+from bristlecrawler.contact.outline import (
+    clearance,
+    current_arc,
+    pair_gap,
+    reference_arc,
+    select_feature,
+)
+from bristlecrawler.contact.profile import profile_chain
 from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
 
-_host_chain = jax.jit(_chain)
+_host_chain = jax.jit(profile_chain)
 
 
 def convex_corners(substrate) -> tuple[np.ndarray, np.ndarray, float]:
@@ -92,7 +98,7 @@ def beam_outline(chain, thickness, normal) -> tuple[tuple[int, ...], np.ndarray]
     return nodes, offsets
 
 
-@pytree_dataclass
+@pytree()
 class FaceParams:
     """Numeric parameters of a :class:`FaceCornerContact` (batchable leaves).
 
@@ -118,7 +124,7 @@ class FaceParams:
     law: Any
 
 
-@pytree_dataclass
+@pytree()
 class FaceHistory:
     """Committed history: first period of each outline's corner window ``k0`` (F,), and
     per (outline, window corner) (F, m): stick anchor (mm of face arc length), cumulative
@@ -253,7 +259,7 @@ class FaceCornerContact:
         """Gap and reference arc coordinate of every (outline, window corner) pair for the
         outline points ``P`` (F, n + 1, 2)."""
         C, rho = self._window(k0, params)
-        pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0))
+        pair = jax.vmap(pair_gap, in_axes=(None, None, None, 0, 0))
         return jax.vmap(pair)(P, params.arc, params.side, C, rho)
 
     # -- term protocol ----------------------------------------------------------------
@@ -261,7 +267,7 @@ class FaceCornerContact:
     def couplings(self) -> tuple[tuple[int, ...], ...]:
         """Node groups of the tangent (:mod:`bristlecrawler.fe.terms`): a pair reads the
         segment it projects on and the neighbouring outline points that set its vertex
-        normals, four consecutive outline points (:func:`_pair`), i.e. up to four
+        normals, four consecutive outline points (:func:`pair_gap`), i.e. up to four
         consecutive nodes of a bristle. Undeclared, the couplings two and three nodes
         apart fell outside the chain's block-tridiagonal band and were dropped from the
         tangent: Newton converged linearly (the residual halved per iteration, about 20
@@ -285,7 +291,7 @@ class FaceCornerContact:
         P = self._points(u, params)
         if sel is None:
             sel = self._select(P, C, params)
-        pair = jax.vmap(_pair, in_axes=(None, None, None, 0, 0, 0))
+        pair = jax.vmap(pair_gap, in_axes=(None, None, None, 0, 0, 0))
         g, s = jax.vmap(pair)(P, params.arc, params.side, C, rho, sel)
         to_cur = jax.vmap(current_arc, in_axes=(0, 0, 0))
         return g, to_cur(P, params.arc, s), to_cur(P, params.arc, anchor)
@@ -293,9 +299,9 @@ class FaceCornerContact:
     @staticmethod
     def _select(P, C, params):
         """The feature of its outline each corner ``C`` (F, k, 2) projects on
-        (:func:`~bristlecrawler.contact.outline._select`, per pair; no derivatives)."""
+        (:func:`~bristlecrawler.contact.outline.select_feature`, per pair; no derivatives)."""
         sg = jax.lax.stop_gradient
-        per_face = jax.vmap(_select, in_axes=(None, None, 0))
+        per_face = jax.vmap(select_feature, in_axes=(None, None, 0))
         return jax.vmap(per_face)(sg(P), params.side, sg(C))
 
     def _force(self, u, C, rho, anchor, params, mode=None):

@@ -19,11 +19,11 @@ import jax.numpy as jnp
 from jax.custom_derivatives import SymbolicZero, zero_from_primal
 
 from bristlecrawler.contact.coulomb import generalized_forces
-from bristlecrawler.contact.outline import _features
+from bristlecrawler.contact.outline import feature_gap
 from bristlecrawler.contact.term import attached_points
 
 #: Outline points a pair reads, relative to the first point c of its feature (segment c,
-#: sharp vertex c, fallback segment c): c - 1 ... c + 2 (:func:`~.outline._features`).
+#: sharp vertex c, fallback segment c): c - 1 ... c + 2 (:func:`~.outline.feature_gap`).
 #: The term declares these groups as its couplings, and the local tangent reads them.
 WINDOW = (-1, 0, 1, 2)
 
@@ -54,7 +54,7 @@ def window_stiffness(term, u, C, rho, anchor, params, mode, current, sel):
         def geometry(uw):
             Pw = attached_points(Xw, uw, offw)
             ends = (arcw[1], arcw[2], arcw[1], arcw[1], arcw[2])
-            g, s = _features(Pw, Pw[1], Pw[1], Pw[2], ends, side, C, rho, sel)
+            g, s = feature_gap(Pw, Pw[1], Pw[1], Pw[2], ends, side, C, rho, sel)
             # Current length from the anchor to the closest point along the window's
             # three segments: current_arc's difference wherever both lie in them, in a
             # form without its search (a sum over the three segments). An anchor

@@ -52,7 +52,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
+from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
 from bristlecrawler.errors import InputError
 from bristlecrawler.states import ContactState
 
@@ -79,7 +79,7 @@ STICK_TOL = 1e-8
 PAPER_TIP_LOAD = 0.055 * 9.81 / 2
 
 
-@pytree_dataclass
+@pytree()
 class CoulombLaw:
     """Coulomb friction with penalty regularisation.
 

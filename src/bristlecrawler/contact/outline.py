@@ -14,14 +14,14 @@ import math
 import jax
 import jax.numpy as jnp
 
-from bristlecrawler.contact.profile import _cross
+from bristlecrawler.contact.profile import cross
 from bristlecrawler.fe.motion import interp
 
 #: A vertex of an outline whose two segments' normals differ by more than 45 degrees is a
 #: corner of the section (end faces), not a kink of a bent face: normals are not blended.
 _SHARP_COS = math.cos(math.pi / 4)
 
-#: Round-off allowance on a segment's fan parameter t in [0, 1] (see :func:`_select`).
+#: Round-off allowance on a segment's fan parameter t in [0, 1] (see :func:`select_feature`).
 _T_EPS = 1e-12
 
 
@@ -45,9 +45,9 @@ def _fan(A, B, nA, nB, C):
     ab = B - A
     dn = nB - nA
     w = C - A
-    a2 = -_cross(ab, dn)
-    a1 = _cross(w, dn) - _cross(ab, nA)
-    a0 = _cross(w, nA)
+    a2 = -cross(ab, dn)
+    a1 = cross(w, dn) - cross(ab, nA)
+    a0 = cross(w, nA)
     disc = jnp.maximum(a1 * a1 - 4.0 * a2 * a0, 0.0)
     root = jnp.sqrt(jnp.where(disc > 1e-300, disc, 1.0)) * (disc > 1e-300)
     den = a1 + jnp.where(a1 < 0.0, -1.0, 1.0) * root
@@ -64,7 +64,7 @@ def _segment_distance2(A, ab, C):
     return jnp.sum(d * d, axis=-1)
 
 
-def _select(P, side, C):
+def select_feature(P, side, C):
     """Which feature of the polygon the corner C projects on (no derivatives needed: the
     choice is piecewise constant): (segment i, sharp vertex k, fallback segment m, found,
     segment wins, sign at the vertex)."""
@@ -125,7 +125,7 @@ def _held_gap_jvp(primals, tangents):
     return jax.jvp(lambda *a: _gap_at(*a, t), tuple(args), tuple(tangents[:-1]))
 
 
-def _pair(P, arc, side, C, rho, sel=None):
+def pair_gap(P, arc, side, C, rho, sel=None):
     """Gap (mm) and outline arc coordinate (mm) of a corner disc (C, rho) against the
     closed polygon P (first point repeated at the end), with interpolated normals.
 
@@ -146,7 +146,7 @@ def _pair(P, arc, side, C, rho, sel=None):
     the wedge between the normals). The nearest candidate wins; where none reaches C (far
     from the outline) the plain closest point is used.
 
-    The feature is chosen on the whole polygon without derivatives (:func:`_select`); the
+    The feature is chosen on the whole polygon without derivatives (:func:`select_feature`); the
     gap and arc coordinate are then evaluated from the (at most four) outline points that
     define it. Values and derivatives are those of the evaluation on the whole polygon
     (the choice is piecewise constant), but the tangent, pushed through ``3 bs`` seeds by
@@ -155,17 +155,17 @@ def _pair(P, arc, side, C, rho, sel=None):
     """
     n = P.shape[0] - 1
     if sel is None:
-        sel = _select(jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C))
+        sel = select_feature(jax.lax.stop_gradient(P), side, jax.lax.stop_gradient(C))
     i, k, m = sel[:3]
     # Segment i: its end points and the neighbouring ones that set the vertex normals.
     Q = P[jnp.stack([(i - 1) % n, i, i + 1, (i + 2) % n])]
     ends = (arc[i], arc[i + 1], arc[k], arc[m], arc[m + 1])
-    return _features(Q, P[k], P[m], P[m + 1], ends, side, C, rho, sel)
+    return feature_gap(Q, P[k], P[m], P[m + 1], ends, side, C, rho, sel)
 
 
-def _features(Q, Pk, Pm, Pm1, ends, side, C, rho, sel):
-    """Gap (mm) and reference arc coordinate (mm) of :func:`_pair` on the feature ``sel``
-    (:func:`_select`) chose: ``Q`` the outline points i - 1 ... i + 2 around segment i,
+def feature_gap(Q, Pk, Pm, Pm1, ends, side, C, rho, sel):
+    """Gap (mm) and reference arc coordinate (mm) of :func:`pair_gap` on the feature ``sel``
+    (:func:`select_feature`) chose: ``Q`` the outline points i - 1 ... i + 2 around segment i,
     ``Pk`` the sharp vertex k, ``Pm``, ``Pm1`` the ends of the fallback segment m, and
     ``ends`` the reference arc of points i, i + 1, k, m, m + 1. Only these points enter
     the values and their derivatives, whatever the outline
@@ -218,7 +218,7 @@ def clearance(P, C, rho):
     """Lower bound (mm) on the gap of each corner disc (C (k, 2), rho (k,)) against the
     closed polygon P (n + 1 points), -inf where the corner's centre lies inside it.
 
-    Outside, every branch of :func:`_pair` measures the gap as the length of a line from
+    Outside, every branch of :func:`pair_gap` measures the gap as the length of a line from
     the corner's centre to a point of the polygon (along an interpolated normal, to a
     sharp vertex, or to the closest point), minus rho, with the sign of the side. That
     length is at least the Euclidean distance to the polygon, so ``distance - rho > 0``

@@ -29,7 +29,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
+from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
 from bristlecrawler.errors import InputError
 
 # Ranking penalty (mm) for a candidate whose closest point was clamped to an end: such a point
@@ -69,7 +69,7 @@ class Projection(NamedTuple):
     arc_gradient: jax.Array
 
 
-@pytree_dataclass
+@pytree()
 class PeriodicProfile:
     """Periodic chain of segments and fillet arcs: the common form of every substrate.
 
@@ -159,7 +159,8 @@ def _rot90(d: jax.Array) -> jax.Array:
     return jnp.stack([-d[..., 1], d[..., 0]], axis=-1)
 
 
-def _cross(a: jax.Array, b: jax.Array) -> jax.Array:
+def cross(a: jax.Array, b: jax.Array) -> jax.Array:
+    """The 2-D cross product a x b (its z component), over the last axis."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
@@ -167,7 +168,7 @@ def _unit(v: jax.Array) -> jax.Array:
     return v / jnp.sqrt(jnp.maximum(jnp.sum(v * v, axis=-1, keepdims=True), _TINY))
 
 
-class _Chain(NamedTuple):
+class ProfileChain(NamedTuple):
     """Segments and arcs of one period, derived from a :class:`PeriodicProfile`."""
 
     a: jax.Array  # (n, 2) segment starts (after the fillet tangent point), mm
@@ -190,7 +191,7 @@ class _Chain(NamedTuple):
     length: jax.Array  # arc length of one period, mm
 
 
-def _chain(prof: PeriodicProfile) -> _Chain:
+def profile_chain(prof: PeriodicProfile) -> ProfileChain:
     v = prof.vertices
     r = prof.fillets
     d = v[1:] - v[:-1]
@@ -198,7 +199,7 @@ def _chain(prof: PeriodicProfile) -> _Chain:
     dh = d / seg_len[:, None]
     n_out = _rot90(dh)
     n_in = jnp.roll(n_out, 1, axis=0)  # vertex i joins segment i-1 (cyclically) to segment i
-    cr = _cross(n_in, n_out)
+    cr = cross(n_in, n_out)
     theta = jnp.arctan2(jnp.abs(cr), jnp.sum(n_in * n_out, axis=-1))
     half = 0.5 * theta
     orient = jnp.where(cr > 0, -1.0, 1.0)  # clockwise turn with solid on the right = convex
@@ -227,7 +228,7 @@ def _chain(prof: PeriodicProfile) -> _Chain:
             axis=-1,
         )
 
-    return _Chain(
+    return ProfileChain(
         a=a,
         b=b,
         seg_normal=n_out,
@@ -255,7 +256,7 @@ def _clip(x: jax.Array, lo: jax.Array, hi: jax.Array) -> jax.Array:
     return jnp.where(x < lo, lo, jnp.where(x > hi, hi, x))
 
 
-def _segments(c: _Chain, p: jax.Array):
+def _segments(c: ProfileChain, p: jax.Array):
     ab = c.b - c.a
     ab2 = jnp.maximum(jnp.sum(ab * ab, axis=-1), _TINY)  # fillets may eat a whole segment
     t_raw = jnp.sum((p - c.a) * ab, axis=-1) / ab2
@@ -270,12 +271,12 @@ def _segments(c: _Chain, p: jax.Array):
     return dist, clamped, signed, c.seg_normal, q, s, ds
 
 
-def _arcs(c: _Chain, p: jax.Array):
+def _arcs(c: ProfileChain, p: jax.Array):
     v = p - c.center
     vv = jnp.sum(v * v, axis=-1, keepdims=True)
     away = vv > 1e-200
     v = jnp.where(away, v, c.mid)  # the angle at the centre itself is arbitrary
-    psi = jnp.arctan2(_cross(c.mid, v), jnp.sum(c.mid * v, axis=-1))
+    psi = jnp.arctan2(cross(c.mid, v), jnp.sum(c.mid * v, axis=-1))
     psi_c = _clip(psi, -c.half, c.half)
     cos, sin = jnp.cos(psi_c), jnp.sin(psi_c)
     u = jnp.stack(
@@ -295,7 +296,7 @@ def _arcs(c: _Chain, p: jax.Array):
     return dist, clamped, signed, n, q, s, ds
 
 
-def _distances(c: _Chain, p: jax.Array, m: jax.Array):
+def _distances(c: ProfileChain, p: jax.Array, m: jax.Array):
     """Distance from ``p`` (x in period ``m``) to every primitive of the copies -1, 0, +1 of
     the reference period, and whether its closest point is clamped to an end; each (6 n,)
     in the order (copy, segments then arcs, index). The values of :func:`_segments` and
@@ -317,11 +318,11 @@ def _distances(c: _Chain, p: jax.Array, m: jax.Array):
     # round-off (a clamped segment end there has a zero signed distance).
     tol = _CONE_TOL * norm_v
     inside = (
-        (_cross(c.edge_plus, v) <= tol)
-        & (_cross(c.edge_minus, v) >= -tol)
+        (cross(c.edge_plus, v) <= tol)
+        & (cross(c.edge_minus, v) >= -tol)
         & (jnp.sum(c.mid * v, axis=-1) >= -tol)
     )
-    end = jnp.where((_cross(c.mid, v) > 0.0)[..., None], c.end_plus, c.end_minus)
+    end = jnp.where((cross(c.mid, v) > 0.0)[..., None], c.end_plus, c.end_minus)
     arc_dist = jnp.where(
         inside, jnp.abs(norm_v - c.radius), jnp.sqrt(jnp.sum((pk[:, None, :] - end) ** 2, -1))
     )
@@ -330,7 +331,7 @@ def _distances(c: _Chain, p: jax.Array, m: jax.Array):
     return dist, clamped
 
 
-def _winner(c: _Chain, p: jax.Array, m: jax.Array) -> jax.Array:
+def _winner(c: ProfileChain, p: jax.Array, m: jax.Array) -> jax.Array:
     """Index (into :func:`_distances`' order) of the primitive closest to ``p``."""
     dist, clamped = _distances(c, p, m)
     rank = dist + _CLAMP_BIAS * clamped
@@ -338,7 +339,7 @@ def _winner(c: _Chain, p: jax.Array, m: jax.Array) -> jax.Array:
     return jnp.argmax(rank <= best + _TIE * (1.0 + best))
 
 
-def _one(c: _Chain, p: jax.Array, m: jax.Array, i: jax.Array):
+def _one(c: ProfileChain, p: jax.Array, m: jax.Array, i: jax.Array):
     """Primitive ``i`` (in :func:`_distances`' order) evaluated at ``p``: (dist, clamped,
     signed distance, normal, closest point, arc length, d arc length / d p)."""
     n = c.a.shape[0]
@@ -377,7 +378,7 @@ def project(substrate, p: jax.Array) -> Projection:
     of every primitive, but a derivative (the contact tangent of an FE Newton iteration,
     pushed through many seeds) costs one primitive instead of 6 n.
     """
-    c = _chain(substrate.profile())
+    c = profile_chain(substrate.profile())
     p = jnp.asarray(p, dtype=jnp.float64)
     m = jnp.floor((jax.lax.stop_gradient(p[0]) - c.x0) / c.period)
     i = _winner(jax.lax.stop_gradient(c), jax.lax.stop_gradient(p), jax.lax.stop_gradient(m))

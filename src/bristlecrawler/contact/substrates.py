@@ -23,7 +23,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.contact._pytree import as_float_leaf, is_concrete, pytree_dataclass
+from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
 from bristlecrawler.contact.profile import PeriodicProfile, check_vertices
 from bristlecrawler.errors import InputError
 
@@ -39,7 +39,7 @@ def _finite(name: str, value: jax.Array) -> np.ndarray:
     return v
 
 
-@pytree_dataclass
+@pytree()
 class Flat:
     """Flat rigid plane y = height.
 
@@ -62,7 +62,7 @@ class Flat:
         return PeriodicProfile(vertices=v, fillets=jnp.zeros((*v.shape[:-2], 1)))
 
 
-@pytree_dataclass
+@pytree()
 class Grooves:
     """Evenly spaced rectangular grooves cut into a flat land at y = top.
 
@@ -127,7 +127,7 @@ class Grooves:
         return PeriodicProfile(vertices=v, fillets=r)
 
 
-@pytree_dataclass
+@pytree()
 class Sawtooth:
     """Asymmetric teeth for directional substrates.
 
@@ -166,7 +166,7 @@ class Sawtooth:
         return PeriodicProfile(vertices=v, fillets=jnp.zeros((*v.shape[:-2], 2)))
 
 
-@pytree_dataclass
+@pytree()
 class Polyline:
     """Any periodic piecewise-linear profile given by its points over one period.
 

@@ -20,7 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.custom_derivatives import SymbolicZero
 
-from bristlecrawler.contact._pytree import pytree_dataclass
+from bristlecrawler._pytree import pytree
 from bristlecrawler.contact.coulomb import CoulombLaw, frozen_status
 from bristlecrawler.contact.node import node_force, node_step
 from bristlecrawler.contact.profile import project
@@ -96,7 +96,7 @@ def attached_points(X, un, offset):
     return X + un[..., :2] + turned
 
 
-@pytree_dataclass
+@pytree()
 class ContactParams:
     """Numeric parameters of a contact term (batchable leaves).
 
@@ -119,7 +119,7 @@ class ContactParams:
     offset: Any
 
 
-@pytree_dataclass
+@pytree()
 class ContactHistory:
     """Committed per-node history: stick anchor (mm, arc length on the substrate),
     cumulative frictional dissipation (mJ), state (0 open, 1 stick, 2 slip), normal force

@@ -11,7 +11,7 @@ from typing import Any
 
 import jax.numpy as jnp
 
-from bristlecrawler.fe._pytree import pytree
+from bristlecrawler._pytree import pytree
 from bristlecrawler.fe.motion import interp
 
 

@@ -23,7 +23,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.crawler.model import _add_contact, _drop
+from bristlecrawler.crawler.drag_analysis import result_of, substrate_pitch
+from bristlecrawler.crawler.model import add_contact, bristle_drop
 from bristlecrawler.crawler.record import state_terms, tip_states
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError
@@ -116,15 +117,6 @@ class DragTest:
             raise InputError(f"drag load must be a positive number of N, got {self.load}")
 
 
-def substrate_pitch(spec: CrawlerSpec) -> float:
-    """Period of the substrate's profile, mm (1 mm for a flat plane)."""
-    from bristlecrawler.contact.substrates import Flat
-
-    if isinstance(spec.substrate, Flat):
-        return 1.0
-    return float(spec.substrate.profile().period)
-
-
 def weight_share(spec: CrawlerSpec) -> float:
     """The crawler's weight on one bristle, N."""
     mass = spec.body.mass + sum(b.mass for b in spec.bristles)
@@ -183,7 +175,7 @@ def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
     )
     one = dataclasses.replace(spec, bristles=(b,), contact=contact)
     s = fe.Structure()
-    drop, tip_y = _drop(b, contact)
+    drop, tip_y = bristle_drop(b, contact)
     clamp = s.node(0.0, drop)
     if spec.gravity > 0:
         s.point_mass(clamp, load / spec.gravity)
@@ -194,7 +186,7 @@ def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
     chain = tuple(s.chain(clamp, (-b.length * math.sin(b.alpha), tip_y), b.elements, b.section()))
     s.gravity(0.0, -spec.gravity)
     s.stiffness_damping(spec.damping.stiffness_proportional)
-    term, _, tip_points = _add_contact(s, one, [chain])
+    term, _, tip_points = add_contact(s, one, [chain])
     return DragModel(s.build(), one, test, clamp, chain, term, tip_points, load)
 
 
@@ -252,7 +244,6 @@ class DragStage:
 
 def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, on_progress=None):
     """Run a drag test of ``spec``'s bristle and return its :class:`DragResult`."""
-    from bristlecrawler.crawler.drag_analysis import result_of
     from bristlecrawler.crawler.runner import ModalDamping, Settle, run_stages
 
     stages = (Settle(), ModalDamping(), DragStage())

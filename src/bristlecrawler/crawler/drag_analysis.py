@@ -309,10 +309,18 @@ def _mean_over(x, f, lo, hi) -> float:
     return float(np.trapezoid(ff, xx) / (b - a))
 
 
+def substrate_pitch(spec) -> float:
+    """Period of the substrate's profile, mm (1 mm for a flat plane): the length over which
+    the sliding forces are averaged."""
+    from bristlecrawler.contact.substrates import Flat
+
+    if isinstance(spec.substrate, Flat):
+        return 1.0
+    return float(spec.substrate.profile().period)
+
+
 def result_of(ctx) -> DragResult:
     """The :class:`DragResult` of a drag ctx's records."""
-    from bristlecrawler.crawler.drag import substrate_pitch
-
     dm, records = ctx.crawler, ctx.records
     settle = dm.spec.actuation.settle_time
     t = records.column("t").astype(float) - settle

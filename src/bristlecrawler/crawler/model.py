@@ -88,7 +88,7 @@ class CrawlerModel:
         return out
 
 
-def _drop(b: Bristle, c) -> tuple[float, float]:
+def bristle_drop(b: Bristle, c) -> tuple[float, float]:
     """(height of the clamp above the tip's start, height of the tip's axis), mm.
 
     With surface contact the tip's lower face corner touches the surface, not its axis;
@@ -119,7 +119,7 @@ def _body_and_bristles(s, spec: CrawlerSpec):
     """Body nodes, masses, actuated links, clamps and bristle chains."""
 
     c = spec.contact
-    drops = [_drop(b, c) for b in spec.bristles]
+    drops = [bristle_drop(b, c) for b in spec.bristles]
     y_body = spec.body.link_length + max(d[0] for d in drops)
     body = [s.node(b.position, y_body) for b in spec.bristles]
     m = spec.body.mass / len(body)
@@ -180,7 +180,10 @@ def _friction_law(spec: CrawlerSpec):
     return CoulombLaw.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift)
 
 
-def _add_contact(s, spec: CrawlerSpec, chains):
+def add_contact(s, spec: CrawlerSpec, chains):
+    """Add the contact of ``spec``'s bristle ``chains`` with its substrate to structure
+    ``s``: the substrate term (and the corner term where the substrate has convex
+    corners); returns (substrate term, corner term or None, each tip's contact points)."""
     from bristlecrawler.contact.term import SubstrateContact
 
     law = _friction_law(spec)
@@ -245,7 +248,7 @@ def build(spec: CrawlerSpec) -> CrawlerModel:
     # The programs take the a1 K v product only where the damping has one: 9-15 % of a
     # Newton iteration (fe.Structure.stiffness_damping).
     s.stiffness_damping(spec.damping.stiffness_proportional)
-    term, corners, tip_points = _add_contact(s, spec, chains)
+    term, corners, tip_points = add_contact(s, spec, chains)
     model = s.build()
     subtrees = tuple(
         tuple(n for j in range(i + 1, len(body)) for n in (body[j], clamps[j], *chains[j][1:]))

@@ -110,7 +110,7 @@ class Prediction:
 def compare(spec: CrawlerSpec, drag, fe_history) -> Prediction:
     """The reduced model (its bristles from ``drag``) beside the FE crawler's history of
     the same design (``crawler.run(spec)``)."""
-    from bristlecrawler.crawler.drag import substrate_pitch
+    from bristlecrawler.crawler.drag_analysis import substrate_pitch
 
     red = reduced_run(spec, drag)
     red_cycles = red.per_cycle()[0]

@@ -29,7 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 import scipy.sparse as sp
 
-from bristlecrawler.fe._pytree import pytree
+from bristlecrawler._pytree import pytree
 
 
 @pytree()

@@ -20,7 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.fe._pytree import pytree
+from bristlecrawler._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.dynamics import (
     DynState,

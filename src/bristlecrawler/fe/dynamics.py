@@ -30,9 +30,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler._pytree import pytree
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
-from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions, newton_parts
 from bristlecrawler.fe.options import compose, renamed
@@ -332,7 +332,7 @@ def _initial_acceleration_fn(topo, terms):
     """Jitted ``(q, t, history, params) -> (u, a)``: one compiled program, so a run's start
     does not dispatch (and compile) the residual op by op (70 s of the paper crawler's start,
     timed under a profiler)."""
-    from bristlecrawler.fe.modal import _mass_fn
+    from bristlecrawler.fe.modal import mass_fn as _mass_fn
 
     @jax.jit
     def fn(q, t, history, params):

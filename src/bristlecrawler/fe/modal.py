@@ -35,7 +35,10 @@ class Modes:
 
 
 @functools.lru_cache(maxsize=64)
-def _mass_fn(topo):
+def mass_fn(topo):
+    """The compiled mass matrix of ``topo``'s structure, ``fn(q, params, t, lam)``, in the
+    reduced unknowns (tonne, tonne mm^2 for rotations); cached per topology."""
+
     @jax.jit
     def fn(q, params, t, lam):
         def expand(q):
@@ -69,7 +72,7 @@ def _shapes_fn(topo):
 
 def mass_matrix(model, q, t: float = 0.0, lam: float = 1.0):
     """Reduced mass J^T M J at ``q`` as a :class:`banded.BlockSystem` (compiled)."""
-    return _mass_fn(model.topology)(
+    return mass_fn(model.topology)(
         jnp.asarray(q), model.params, jnp.asarray(float(t)), jnp.asarray(float(lam))
     )
 

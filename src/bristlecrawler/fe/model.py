@@ -18,8 +18,8 @@ from typing import Any
 import jax
 import numpy as np
 
+from bristlecrawler._pytree import pytree
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe._pytree import pytree
 
 DOF_NAMES = ("x", "y", "theta")
 

@@ -14,7 +14,7 @@ from typing import Any
 import jax.numpy as jnp
 import numpy as np
 
-from bristlecrawler.fe._pytree import pytree
+from bristlecrawler._pytree import pytree
 
 
 @pytree()

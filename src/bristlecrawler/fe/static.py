@@ -16,8 +16,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler._pytree import pytree
 from bristlecrawler.fe import assembly, banded
-from bristlecrawler.fe._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
 from bristlecrawler.fe.newton import NewtonOptions, newton
 from bristlecrawler.fe.options import compose

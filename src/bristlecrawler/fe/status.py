@@ -11,8 +11,8 @@ import enum
 
 import numpy as np
 
+from bristlecrawler._pytree import pytree
 from bristlecrawler.errors import SolverError
-from bristlecrawler.fe._pytree import pytree
 
 
 class Status(enum.IntEnum):

@@ -73,12 +73,12 @@ def run_drag(
     from bristlecrawler.io.netcdf import write_netcdf
     from bristlecrawler.io.runs import claim_run_dir
     from bristlecrawler.jobs.estimates import (
-        announce,
         expected,
         run_seconds,
         scenario_key,
         unmeasured,
     )
+    from bristlecrawler.viz.progress import announce
 
     key = scenario_key("drag", {"scenario": sc.model_dump(mode="json"), "test": repr(test)})
     with claim_run_dir(out, f"drag-{sc.name}", replace=replace, command=command) as run:

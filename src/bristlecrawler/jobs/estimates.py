@@ -9,7 +9,6 @@ the reference machine instead (stated with it), never a guess.
 from __future__ import annotations
 
 import os
-import sys
 from typing import Any
 
 from bristlecrawler.io.costs import digest, duration, record, recorded
@@ -116,8 +115,3 @@ def run_seconds(wall_s: float, stats: dict) -> float:
     """A run's wall time without its compilation (unknown compile time: all of it)."""
     compile_s = stats.get("compile_time_s", float("nan"))
     return wall_s - compile_s if compile_s == compile_s else wall_s
-
-
-def announce(label: str, text: str) -> None:
-    """One line on stderr, before the work starts."""
-    print(f"{label}: {text}", file=sys.stderr, flush=True)

@@ -37,7 +37,8 @@ def cache_folder() -> Path:
 def prediction_drag_test(spec):
     """The drag test a prediction needs: back and forth over at least two pitches
     (8 mm or more), at the default speed and the bristle's weight share."""
-    from bristlecrawler.crawler.drag import DragTest, substrate_pitch
+    from bristlecrawler.crawler.drag import DragTest
+    from bristlecrawler.crawler.drag_analysis import substrate_pitch
 
     return DragTest(direction="cycle", distance=max(8.0, 2.0 * substrate_pitch(spec)))
 
@@ -96,11 +97,12 @@ def predict_models(spec, summary: dict, cycles: int) -> dict[str, ModelPredictio
     import numpy as np
 
     from bristlecrawler.crawler.prediction import reduced_gait, reduced_twin
-    from bristlecrawler.reduced import ReducedCrawler, simulate
+    from bristlecrawler.reduced import simulate
+    from bristlecrawler.reduced.textured import TexturedCrawler
 
     x = np.sort([b.position for b in spec.bristles])
-    textured = ReducedCrawler.from_drag(
-        summary, len(x), segment_lengths=np.diff(x), model="texture", start_mm=float(x[0])
+    textured = TexturedCrawler.from_drag(
+        summary, len(x), segment_lengths=np.diff(x), start_mm=float(x[0])
     )
     out = {}
     for name, crawler in (("texture", textured), ("paper", reduced_twin(spec, summary))):

@@ -7,12 +7,9 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.reduced import closed_form as cf
-from bristlecrawler.reduced.crawler import ReducedCrawler
-from bristlecrawler.reduced.gaits import breathing, peristaltic
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import ReducedResult
-from bristlecrawler.reduced.strokes import Sin2Stroke, TriangleStroke, read_history_csv
-from bristlecrawler.scenario.reduced import ReducedConfig
+from bristlecrawler.scenario.reduced import ReducedConfig, build
 
 #: The exact solver closes the energy balance to round-off; a residual above this flags a
 #: run whose events were not resolved.
@@ -27,54 +24,6 @@ class ReducedRun:
     summary: dict[str, Any]
     out_dir: Path | None
     notes: tuple[str, ...] = ()
-
-
-def read_texture(path: str | Path):
-    """The :class:`TextureLaw` in a drag test's ``summary.json`` (key ``texture``) or in a
-    JSON file holding the law itself; InputError (one line) otherwise."""
-    import json
-
-    from bristlecrawler.errors import InputError
-    from bristlecrawler.reduced.texture import TextureLaw
-
-    try:
-        data = json.loads(Path(path).read_text())
-    except (OSError, ValueError) as err:
-        raise InputError(f"texture {path}: cannot read a JSON file ({err})") from None
-    law = data.get("texture", data) if isinstance(data, dict) else None
-    if not isinstance(law, dict):
-        raise InputError(f"texture {path}: no texture law (run a drag test with direction cycle)")
-    return TextureLaw.from_dict(law)
-
-
-def build(config: ReducedConfig):
-    """Crawler and gait described by ``config`` (reads the history and texture files)."""
-    if config.texture is not None:
-        from bristlecrawler.reduced.textured import TexturedCrawler
-
-        law = read_texture(config.texture)
-        crawler = TexturedCrawler.uniform(law, config.bristles, config.length)
-    else:
-        crawler = ReducedCrawler.uniform(
-            config.bristles, config.length, config.k, config.fp, config.fn_resolved
-        )
-    if config.history is not None:
-        stroke = read_history_csv(config.history)
-        crawler.check_stroke(stroke.s_max)
-    elif config.actuator == "sma":
-        from bristlecrawler.actuators.sma import SMAActuator, run_sma
-
-        stroke = run_sma(SMAActuator(s_target=config.s_max), config.cycles).stroke()
-        crawler.check_stroke(stroke.s_max)
-    else:
-        cls = Sin2Stroke if config.stroke == "sin2" else TriangleStroke
-        stroke = cls(config.s_max, config.period)
-    nseg = config.bristles - 1
-    if config.gait == "peristaltic":
-        gait = peristaltic(stroke, nseg, config.lag_resolved)
-    else:
-        gait = breathing(stroke, nseg)
-    return crawler, gait
 
 
 def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:

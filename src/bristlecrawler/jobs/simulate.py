@@ -152,12 +152,12 @@ def run_simulation(
     from bristlecrawler.io.costs import record
     from bristlecrawler.io.runs import claim_run_dir
     from bristlecrawler.jobs.estimates import (
-        announce,
         expected,
         run_seconds,
         scenario_key,
         unmeasured,
     )
+    from bristlecrawler.viz.progress import announce
 
     key = scenario_key("simulate", sc.model_dump(mode="json"))
     with claim_run_dir(out, f"simulate-{sc.name}", replace=replace, command=command) as run:

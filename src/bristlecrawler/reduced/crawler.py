@@ -11,6 +11,7 @@ F_p to 0.45 N).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,9 +112,7 @@ class ReducedCrawler:
         model: str = "paper",
         start_mm: float = 0.0,
     ):
-        """The crawler whose bristles all have a drag test's k, F_p and F_n, or (``model
-        = "texture"``) its texture law: a :class:`~bristlecrawler.reduced.textured.
-        TexturedCrawler` whose first bristle is at substrate position ``start_mm`` (mm).
+        """The crawler whose bristles all have a drag test's k, F_p and F_n.
 
         Args:
             drag: a drag test's result (anything with ``summary()``, such as
@@ -125,12 +124,28 @@ class ReducedCrawler:
 
         A bristle that resists both ways alike (alpha = 0, F_n within the scatter of F_p)
         gets F_n = F_p. A drag test that never slid one way has no value for it: refused.
+
+        ``model = "texture"`` (with ``start_mm``) is deprecated: ``TexturedCrawler.from_drag``
+        (:mod:`bristlecrawler.reduced.textured`) builds the crawler on the drag test's
+        texture law.
         """
         if model not in ("paper", "texture"):
             raise InputError(f"reduced model must be paper or texture, got {model!r}")
         many = isinstance(drag, list | tuple)
         if model == "texture":
-            return _textured(drag, n_bristles, length, segment_lengths, start_mm)
+            # The textured crawler is built on this one (its solver and paper_crawler):
+            # this forward is the one import back, until the deprecated option goes.
+            from bristlecrawler.reduced.textured import TexturedCrawler
+
+            warnings.warn(
+                "ReducedCrawler.from_drag(model='texture') is deprecated: use "
+                "TexturedCrawler.from_drag",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return TexturedCrawler.from_drag(
+                drag, n_bristles, length, segment_lengths=segment_lengths, start_mm=start_mm
+            )
         values = [_drag_values(d) for d in (drag if many else [drag])]
         if many:
             n_bristles = len(values)
@@ -166,26 +181,6 @@ class ReducedCrawler:
                 f"peak shortening {s[j]:g} mm must be smaller than the segment length "
                 f"{self.segment_lengths[j]:g} mm (segment {j})"
             )
-
-
-def _textured(drag, n_bristles, length, segment_lengths, start_mm):
-    from bristlecrawler.reduced.texture import TextureLaw
-    from bristlecrawler.reduced.textured import TexturedCrawler
-
-    drags = list(drag) if isinstance(drag, list | tuple) else None
-    laws = []
-    for d in drags or [drag]:
-        summary = d.summary() if hasattr(d, "summary") else d
-        law = summary.get("texture") if isinstance(summary, dict) else None
-        if law is None:
-            raise InputError("the drag test gives no texture law (run direction cycle)")
-        laws.append(law if isinstance(law, TextureLaw) else TextureLaw.from_dict(law))
-    n = len(laws) if drags else int(n_bristles)
-    if segment_lengths is None:
-        if n < 2:
-            raise InputError(f"a crawler needs at least 2 bristles, got {n_bristles}")
-        segment_lengths = np.full(n - 1, float(length) / (n - 1))
-    return TexturedCrawler(tuple(laws) if drags else (laws[0],) * n, segment_lengths, start_mm)
 
 
 def _drag_values(drag) -> tuple[float, float, float]:

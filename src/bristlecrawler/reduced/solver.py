@@ -156,7 +156,7 @@ def _zero_set(f, bps: np.ndarray, ftol: float) -> tuple[float, float]:
     return (lo, hi) if lo <= hi else (0.5 * (lo + hi), 0.5 * (lo + hi))
 
 
-class _Stepper:
+class Stepper:
     """Holds the crawler constants and the exact per-interval kernels."""
 
     def __init__(self, crawler: ReducedCrawler, scale: float):
@@ -269,13 +269,13 @@ def solve(
         ReducedResult. Raises InputError on inconsistent input, SolverError if the rate
         problem has no solution (cannot happen for valid crawlers).
     """
-    t, s = _checked_samples(crawler, t, shortening)
+    t, s = checked_samples(crawler, t, shortening)
     n = crawler.n_bristles
     a = np.zeros((t.size, n))
     a[:, 1:] = np.cumsum(crawler.segment_lengths - s, axis=1)
     M = t.size
     scale = crawler.length + float(np.max(crawler.fn / crawler.k))
-    st = _Stepper(crawler, scale)
+    st = Stepper(crawler, scale)
     k = crawler.k
 
     X0 = np.zeros(M)
@@ -330,7 +330,7 @@ def solve(
     )
 
 
-def _checked_samples(crawler: ReducedCrawler, t, shortening) -> tuple[np.ndarray, np.ndarray]:
+def checked_samples(crawler: ReducedCrawler, t, shortening) -> tuple[np.ndarray, np.ndarray]:
     """Sample times (M,) and shortenings (M, N - 1) as float arrays; InputError naming
     what is wrong with them (shape, non-finite values, times not increasing, a stroke the
     crawler cannot take)."""

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from bristlecrawler.errors import InputError, SolverError
-from bristlecrawler.reduced.crawler import ReducedCrawler
-from bristlecrawler.reduced.solver import Event, ReducedResult, _checked_samples, _Stepper
+from bristlecrawler.reduced.crawler import PAPER_LENGTH, ReducedCrawler
+from bristlecrawler.reduced.solver import Event, ReducedResult, Stepper, checked_samples
 from bristlecrawler.reduced.texture import TextureLaw
 
 
@@ -61,6 +61,42 @@ class TexturedCrawler:
         n = int(n_bristles)
         return cls((law,) * n, np.full(n - 1, float(length) / (n - 1)), start)
 
+    @classmethod
+    def from_drag(
+        cls,
+        drag,
+        n_bristles: int = 2,
+        length: float = PAPER_LENGTH,
+        *,
+        segment_lengths=None,
+        start_mm: float = 0.0,
+    ) -> TexturedCrawler:
+        """The crawler whose bristles all have a drag test's texture law, its first bristle
+        at substrate position ``start_mm`` (mm).
+
+        Args:
+            drag: a drag test's result (anything with ``summary()``, such as
+                ``bristlecrawler.crawler.drag.DragResult``) or its summary mapping: reads
+                ``texture`` (a drag test with direction cycle); a sequence of them gives
+                each bristle its own.
+            n_bristles: number of bristles, spread evenly over ``length`` (mm), unless
+                ``segment_lengths`` (mm, N-1 values) places them.
+        """
+        drags = list(drag) if isinstance(drag, list | tuple) else None
+        laws = []
+        for d in drags or [drag]:
+            summary = d.summary() if hasattr(d, "summary") else d
+            law = summary.get("texture") if isinstance(summary, dict) else None
+            if law is None:
+                raise InputError("the drag test gives no texture law (run direction cycle)")
+            laws.append(law if isinstance(law, TextureLaw) else TextureLaw.from_dict(law))
+        n = len(laws) if drags else int(n_bristles)
+        if segment_lengths is None:
+            if n < 2:
+                raise InputError(f"a crawler needs at least 2 bristles, got {n_bristles}")
+            segment_lengths = np.full(n - 1, float(length) / (n - 1))
+        return cls(tuple(laws) if drags else (laws[0],) * n, segment_lengths, start_mm)
+
     @property
     def n_bristles(self) -> int:
         return len(self.laws)
@@ -86,7 +122,7 @@ class TexturedCrawler:
         self.paper_crawler().check_stroke(max_shortening)
 
 
-class _TextureStepper(_Stepper):
+class _TextureStepper(Stepper):
     """The paper's rate kernel with yield bounds set from the tips' positions."""
 
     def __init__(self, crawler: TexturedCrawler, scale: float):
@@ -221,7 +257,7 @@ def solve_textured(crawler: TexturedCrawler, t, shortening, cycle_bounds=None) -
     """The textured crawler's quasi-static evolution for sampled segment shortenings
     (see :func:`bristlecrawler.reduced.solve`; tips start at their attachments plus the
     laws' tip offsets, springs unloaded)."""
-    t, s = _checked_samples(crawler, t, shortening)
+    t, s = checked_samples(crawler, t, shortening)
     n = crawler.n_bristles
     a = np.zeros((t.size, n))
     a[:, 1:] = np.cumsum(crawler.segment_lengths - s, axis=1)

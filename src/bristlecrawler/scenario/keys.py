@@ -83,7 +83,8 @@ def unit_of(description: str) -> str:
     return "-" if m.group(1) == "dimensionless" else m.group(1)
 
 
-def _meaning(description: str, unit: str) -> str:
+def field_meaning(description: str, unit: str) -> str:
+    """A setting's description without the unit it names (``, mm``), capitalised."""
     text = (description or "").strip()
     if unit:
         text = _UNIT_RE.sub("", text, count=1).strip()
@@ -122,7 +123,7 @@ def _rows(model: type[BaseModel], prefix: str, defaults: Any, paper: Any, kind: 
             default=default,
             required=required and defaults is None,
             paper=NA if paper is None else getattr(paper, name, NA),
-            meaning=_meaning(field.description or "", unit),
+            meaning=field_meaning(field.description or "", unit),
             kind=kind,
         )
 
@@ -177,7 +178,7 @@ def _rows_top(name, field, default, paper):
             getattr(default, name),
             False,
             getattr(paper, name),
-            _meaning(field.description or "", unit),
+            field_meaning(field.description or "", unit),
         )
     ]
 

@@ -1,7 +1,9 @@
-"""The reduced-model run configuration (CLI options or a TOML table), validated by pydantic."""
+"""The reduced-model run configuration (CLI options or a TOML table), validated by pydantic,
+and the crawler and gait it describes (:func:`build`)."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -15,7 +17,10 @@ from bristlecrawler.reduced.crawler import (
     PAPER_LENGTH,
     PAPER_PERIOD,
     PAPER_S_MAX,
+    ReducedCrawler,
 )
+from bristlecrawler.reduced.gaits import breathing, peristaltic
+from bristlecrawler.reduced.strokes import Sin2Stroke, TriangleStroke, read_history_csv
 
 #: Bounds of the physical parameters: lengths in mm (10 m), forces in N; F_p/k in mm.
 MAX_LENGTH = 1e4
@@ -150,3 +155,51 @@ def first_inconsistency(fp, fn, s_max, length, bristles, history: bool = False):
         what = "length L" if bristles[i] == 2 else f"segment length L/(N-1) = {seg[i]:g} mm"
         return i, f"s_max ({s_max[i]:g} mm) must be smaller than the {what}"
     return None
+
+
+def read_texture(path: str | Path):
+    """The :class:`TextureLaw` in a drag test's ``summary.json`` (key ``texture``) or in a
+    JSON file holding the law itself; InputError (one line) otherwise."""
+    import json
+
+    from bristlecrawler.errors import InputError
+    from bristlecrawler.reduced.texture import TextureLaw
+
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as err:
+        raise InputError(f"texture {path}: cannot read a JSON file ({err})") from None
+    law = data.get("texture", data) if isinstance(data, dict) else None
+    if not isinstance(law, dict):
+        raise InputError(f"texture {path}: no texture law (run a drag test with direction cycle)")
+    return TextureLaw.from_dict(law)
+
+
+def build(config: ReducedConfig):
+    """Crawler and gait described by ``config`` (reads the history and texture files)."""
+    if config.texture is not None:
+        from bristlecrawler.reduced.textured import TexturedCrawler
+
+        law = read_texture(config.texture)
+        crawler = TexturedCrawler.uniform(law, config.bristles, config.length)
+    else:
+        crawler = ReducedCrawler.uniform(
+            config.bristles, config.length, config.k, config.fp, config.fn_resolved
+        )
+    if config.history is not None:
+        stroke = read_history_csv(config.history)
+        crawler.check_stroke(stroke.s_max)
+    elif config.actuator == "sma":
+        from bristlecrawler.actuators.sma import SMAActuator, run_sma
+
+        stroke = run_sma(SMAActuator(s_target=config.s_max), config.cycles).stroke()
+        crawler.check_stroke(stroke.s_max)
+    else:
+        cls = Sin2Stroke if config.stroke == "sin2" else TriangleStroke
+        stroke = cls(config.s_max, config.period)
+    nseg = config.bristles - 1
+    if config.gait == "peristaltic":
+        gait = peristaltic(stroke, nseg, config.lag_resolved)
+    else:
+        gait = breathing(stroke, nseg)
+    return crawler, gait

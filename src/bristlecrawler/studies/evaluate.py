@@ -79,7 +79,7 @@ def evaluate_fe_batch(scenarios: list[dict[str, Any]], width: int) -> list[dict[
     scs = [scenario_from_dict(s, "design") for s in scenarios]
     result = run_batch([to_spec(sc) for sc in scs], width=width)
     return [
-        _fe_outputs(h, sc.actuation.cycles) if h is not None else _one_line(SolverError(err))
+        _fe_outputs(h, sc.actuation.cycles) if h is not None else one_line(SolverError(err))
         for h, err, sc in zip(result.histories, result.errors, scs, strict=True)
     ]
 
@@ -112,9 +112,8 @@ def _closed_form(s, fp, k, n) -> dict[str, np.ndarray]:
 
 def evaluate_reduced(config: dict[str, Any]) -> dict[str, float]:
     """One reduced design with the exact solver (any number of bristles, gait, stroke)."""
-    from bristlecrawler.jobs.reduced import build
     from bristlecrawler.reduced.simulate import simulate
-    from bristlecrawler.scenario.reduced import ReducedConfig
+    from bristlecrawler.scenario.reduced import ReducedConfig, build
     from bristlecrawler.scenario.strict import parse_model
 
     cfg = parse_model(ReducedConfig, config)
@@ -176,7 +175,7 @@ def evaluate_reduced_chunk(
             for k, v in evaluate_reduced(row).items():
                 res[k][i] = v
         except Exception as exc:  # a failed design is recorded, the others go on
-            status[i], error[i] = DesignStatus.FAILED, _one_line(exc)
+            status[i], error[i] = DesignStatus.FAILED, one_line(exc)
         res["wall_time_s"][i] = time.perf_counter() - t0
     return res | {"status": status, "error": error.astype(str)}
 
@@ -186,6 +185,7 @@ def _python(value: Any) -> Any:
     return value.item() if isinstance(value, np.generic) else value
 
 
-def _one_line(exc: BaseException) -> str:
+def one_line(exc: BaseException) -> str:
+    """A failure as one line: its type and message, at most 500 characters."""
     text = " ".join(str(exc).split()) or type(exc).__name__
     return f"{type(exc).__name__}: {text}"[:500]

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.studies.evaluate import OUTPUTS, DesignStatus, _one_line
+from bristlecrawler.studies.evaluate import OUTPUTS, DesignStatus, one_line
 
 CONNECT_TIMEOUT_S = 15.0
 
@@ -46,7 +46,7 @@ def fe_task(base: dict[str, Any], overrides: list[dict[str, Any]]) -> dict[str, 
             for k, v in evaluate_fe(with_overrides(base, ov)).items():
                 res[k][i] = v
         except Exception as exc:  # a failed design is recorded, the others go on
-            status[i], error[i] = DesignStatus.FAILED, _one_line(exc)
+            status[i], error[i] = DesignStatus.FAILED, one_line(exc)
         res["wall_time_s"][i] = time.perf_counter() - t0
     return res | {"status": status, "error": np.asarray(error, dtype=str)}
 
@@ -69,7 +69,7 @@ def fe_batch_task(
     try:
         outcomes = evaluate_fe_batch([with_overrides(base, ov) for ov in overrides], width)
     except Exception as exc:  # the batch could not start: every design failed with it
-        outcomes = [_one_line(exc)] * n
+        outcomes = [one_line(exc)] * n
     for i, out in enumerate(outcomes):
         if isinstance(out, str):
             status[i], error[i] = DesignStatus.FAILED, out
@@ -230,7 +230,7 @@ def _why(fut) -> str:
         exc = fut.exception(timeout=5)
     except Exception as other:  # cancelled or unreachable: that is the reason
         exc = other
-    return _one_line(exc) if exc is not None else f"task {fut.status}"
+    return one_line(exc) if exc is not None else f"task {fut.status}"
 
 
 def _running(client, by_key) -> int:

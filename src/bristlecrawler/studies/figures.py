@@ -51,13 +51,13 @@ def output_label(out: str) -> str:
 @functools.cache
 def _declared_axes() -> dict[str, tuple[str, str]]:
     """Design-axis key -> (meaning, unit), from the FE and reduced scenario schemas."""
-    from bristlecrawler.scenario.keys import _meaning, scenario_keys, unit_of
+    from bristlecrawler.scenario.keys import field_meaning, scenario_keys, unit_of
     from bristlecrawler.scenario.reduced import ReducedConfig
 
     found = {}
     for name, field in ReducedConfig.model_fields.items():
         unit = unit_of(field.description or "")
-        found[name] = (_meaning(field.description or "", unit), unit)
+        found[name] = (field_meaning(field.description or "", unit), unit)
     for k in scenario_keys():
         found.setdefault(k.key, (k.meaning, k.unit))
     return found

@@ -286,7 +286,7 @@ def _announce(p: Plan, out: Path, n: int, workers: int) -> None:
     its last run here (the designs of a study cost alike; the first of each worker also
     compiles)."""
     from bristlecrawler.io.costs import duration, recorded
-    from bristlecrawler.jobs.estimates import announce
+    from bristlecrawler.viz.progress import announce
 
     before = recorded("sweep-design", p.resolved["fingerprint"])
     if before is None:

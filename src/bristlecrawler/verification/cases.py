@@ -55,7 +55,9 @@ class Row:
         return bool(np.isfinite(self.error) and self.error <= self.tol)
 
 
-def _row(case, quantity, reference, computed, tol, scale=None) -> Row:
+def row(case, quantity, reference, computed, tol, scale=None) -> Row:
+    """A row that passes when ``computed`` is within ``tol`` of ``reference``, relative
+    to ``scale`` (default: the reference's size)."""
     scale = abs(reference) if scale is None else scale
     return Row(
         case,
@@ -121,7 +123,7 @@ def case_tip_load(runs=None) -> list[Row]:
         exact = ref.elastica_tip_load(r["PL2_EI"], EXTENSIBILITY)
         for q in ("u_over_L", "v_over_L", "theta"):
             rows.append(
-                _row("cantilever tip load", f"{q} @ PL2/EI={r['PL2_EI']:g}", exact[q], r[q], 1e-3)
+                row("cantilever tip load", f"{q} @ PL2/EI={r['PL2_EI']:g}", exact[q], r[q], 1e-3)
             )
     return rows
 
@@ -135,9 +137,9 @@ def case_end_moment() -> list[Row]:
     tip = _tip(_static(mm, increments=8))
     L = 1.0
     return [
-        _row("end moment (circle)", "tip x / L", 0.0, (L + tip[0]) / L, 1e-8, scale=1.0),
-        _row("end moment (circle)", "tip y / L", 0.0, tip[1] / L, 1e-8, scale=1.0),
-        _row("end moment (circle)", "tip rotation (rad)", 2.0 * math.pi, tip[2], 1e-8),
+        row("end moment (circle)", "tip x / L", 0.0, (L + tip[0]) / L, 1e-8, scale=1.0),
+        row("end moment (circle)", "tip y / L", 0.0, tip[1] / L, 1e-8, scale=1.0),
+        row("end moment (circle)", "tip rotation (rad)", 2.0 * math.pi, tip[2], 1e-8),
     ]
 
 
@@ -182,14 +184,14 @@ def case_bristle() -> tuple[list[Row], dict]:
     k_tip = bristle_stiffness(0.0)
     k_h = bristle_stiffness(math.pi / 4.0)
     rows = [
-        _row(
+        row(
             "tapered bristle",
             "tip stiffness (N/mm)",
             1.0 / ref.tapered_bending_compliance(*args),
             k_tip,
             1e-6,
         ),
-        _row(
+        row(
             "tapered bristle",
             "horizontal stiffness, alpha=pi/4 (N/mm)",
             ref.inclined_horizontal_stiffness(*args, math.pi / 4.0),
@@ -214,7 +216,7 @@ def case_tip_mass_frequency(mass_ratio: float = 1.0) -> list[Row]:
     f_fe = modes(m.with_params(node_mass=mass), n_modes=1).frequency_hz[0]
     beta = ref.tip_mass_beta(mass_ratio)
     f_ref = beta**2 * math.sqrt(_EI(m) / (rhoA * 1.0**4)) / (2.0 * math.pi)
-    return [_row("tip-mass cantilever", "f1 (Hz)", f_ref, f_fe, 1e-3)]
+    return [row("tip-mass cantilever", "f1 (Hz)", f_ref, f_fe, 1e-3)]
 
 
 def case_energy(n_steps: int = 1000) -> list[Row]:
@@ -288,11 +290,11 @@ def case_hht(alpha: float = -0.05) -> list[Row]:
         rho_t, xi_t = ref.principal_roots(
             np.linalg.eigvals(ref.hht_amplification(ig.alpha, ig.beta, ig.gamma, Om))
         )
-        rows.append(_row("HHT dissipation", f"spectral radius @ Omega={Om:g}", rho_t, rho, 1e-6))
-        rows.append(_row("HHT dissipation", f"damping ratio @ Omega={Om:g}", xi_t, xi, 1e-6))
+        rows.append(row("HHT dissipation", f"spectral radius @ Omega={Om:g}", rho_t, rho, 1e-6))
+        rows.append(row("HHT dissipation", f"damping ratio @ Omega={Om:g}", xi_t, xi, 1e-6))
     rho_inf = measured_roots(ig, 1e3, n=12)[0]
     rows.append(
-        _row("HHT dissipation", "rho_inf (Omega=1e3)", (1 + alpha) / (1 - alpha), rho_inf, 1e-3)
+        row("HHT dissipation", "rho_inf (Omega=1e3)", (1 + alpha) / (1 - alpha), rho_inf, 1e-3)
     )
     return rows
 
@@ -313,7 +315,7 @@ def case_convergence(conv=None) -> list[Row]:
     """Observed order of the tip deflection error (reference 2, tol 0.1 relative)."""
     conv = convergence() if conv is None else conv
     return [
-        _row(
+        row(
             "mesh convergence",
             f"order v/L, n={conv['sizes'][-2]}->{conv['sizes'][-1]}",
             2.0,

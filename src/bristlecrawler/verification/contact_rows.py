@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bristlecrawler.verification.cases import Row, _row
+from bristlecrawler.verification.cases import Row, row
 
 
 def coulomb_oscillator_rows(run=None) -> tuple[list[Row], dict]:
@@ -38,10 +38,10 @@ def coulomb_oscillator_rows(run=None) -> tuple[list[Row], dict]:
     case = "Coulomb oscillator"
     x0 = abs(float(ref.positions[0]))
     n_ref, n_fe = len(ref.positions), len(run.turning_points)
-    rows = [_row(case, "turning points (release + reversals + stop)", n_ref, n_fe, 0.0)]
+    rows = [row(case, "turning points (release + reversals + stop)", n_ref, n_fe, 0.0)]
     for k in range(1, min(n_ref, n_fe)):
         rows.append(
-            _row(
+            row(
                 case,
                 f"turning point {k} (mm), error / x0",
                 ref.positions[k],
@@ -50,11 +50,11 @@ def coulomb_oscillator_rows(run=None) -> tuple[list[Row], dict]:
                 scale=x0,
             )
         )
-    rows.append(_row(case, "stop time (s)", ref.stop_time, run.stop_time, 3e-3))
+    rows.append(row(case, "stop time (s)", ref.stop_time, run.stop_time, 3e-3))
     stiffness = 0.1  # N/mm, DEFAULT_OSCILLATOR
     loss = 0.5 * stiffness * (ref.positions[0] ** 2 - ref.positions[-1] ** 2)
     rows.append(
-        _row(case, "friction dissipation (mJ) vs spring energy lost", loss, run.dissipation, 1e-4)
+        row(case, "friction dissipation (mJ) vs spring energy lost", loss, run.dissipation, 1e-4)
     )
     doc = {
         "coulomb_oscillator_turning_points_mm": [float(x) for x in run.turning_points[:6]],
@@ -74,7 +74,7 @@ def incline_rows(run=None) -> tuple[list[Row], dict]:
     from bristlecrawler.verification.contact_cases import incline_push_fe
 
     run = incline_push_fe() if run is None else run
-    rows = [_row("block on incline", "push / weight at slip onset", run.reference, run.ratio, 1e-4)]
+    rows = [row("block on incline", "push / weight at slip onset", run.reference, run.ratio, 1e-4)]
     return rows, {"incline_push_ratio": float(run.ratio)}
 
 
@@ -91,9 +91,9 @@ def pressed_drag_rows(run=None) -> tuple[list[Row], dict]:
     ref = run.reference
     case = "pressed-dragged bristle"
     rows = [
-        _row(case, "clamp drag at slip onset (mm)", ref.drag_at_slip, run.drag_at_slip, 1e-3),
-        _row(case, "normal force after press (N)", ref.normal_at_press, run.normal_at_press, 1e-3),
-        _row(case, "normal force in slip (N)", ref.normal_in_slip, run.normal_in_slip, 1e-3),
+        row(case, "clamp drag at slip onset (mm)", ref.drag_at_slip, run.drag_at_slip, 1e-3),
+        row(case, "normal force after press (N)", ref.normal_at_press, run.normal_at_press, 1e-3),
+        row(case, "normal force in slip (N)", ref.normal_in_slip, run.normal_in_slip, 1e-3),
     ]
     doc = {
         "pressed_bristle_drag": {
@@ -126,7 +126,7 @@ def grooved_drag_rows(run=None) -> tuple[list[Row], dict]:
     run = grooved_drag_fe() if run is None else run
     case = "grooved drag"
     rows = [
-        _row(
+        row(
             case,
             "energy balance, max |W_in - sum E| / max W_in",
             0.0,
@@ -134,7 +134,7 @@ def grooved_drag_rows(run=None) -> tuple[list[Row], dict]:
             1e-3,
             scale=1.0,
         ),
-        _row(
+        row(
             case,
             "grooves entered (of grooves passed)",
             run.grooves_passed,
@@ -142,7 +142,7 @@ def grooved_drag_rows(run=None) -> tuple[list[Row], dict]:
             0.0,
             scale=max(run.grooves_passed, 1),
         ),
-        _row(
+        row(
             case,
             "grooves climbed out of (of grooves passed)",
             run.grooves_passed,

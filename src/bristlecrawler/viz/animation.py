@@ -47,9 +47,9 @@ def write_animation(
     ``<stem>.mp4`` when possible). Returns the written paths."""
     import imageio.v3 as iio
 
-    from bristlecrawler.viz.reduced import _pyplot
+    from bristlecrawler.viz.reduced import pyplot
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
     frames = []
     for i in range(n_frames):

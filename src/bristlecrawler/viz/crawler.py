@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, _pyplot
+from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, pyplot
 
 
 def plot_delta_vs_s(h, title: str | None = None):
     """Delta versus s over all cycles; slip (some tip sliding) red, stick blue-dashed."""
     from bristlecrawler.crawler.history import TIP_SLIP
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.8))
     sliding = np.any(h.tip_state == TIP_SLIP, axis=1)
     cuts = np.flatnonzero(np.diff(sliding.astype(int))) + 1
@@ -32,7 +32,7 @@ def plot_delta_vs_s(h, title: str | None = None):
 
 def plot_connector(h):
     """F_c(t) and W_c(t) with the first cycle shaded grey (paper Fig. 6)."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 5.2), sharex=True)
     a1.plot(h.t, h.connector_force, color="k", lw=0.8)
     a1.set_ylabel(r"connector force $F_c$ (N)")
@@ -114,7 +114,7 @@ def plot_shapes(h, zoom: float = 4.5, max_rows: int = 10):
     Fig. 5): the whole crawler with dashed verticals at its ends' positions and a 10 mm
     bar, and below it each bristle in a window ``zoom`` mm either side of its middle, with
     the grooves and mm axes."""
-    plt = _pyplot()
+    plt = pyplot()
     # Without a period (a recorded or SMA history) the run is drawn as one stroke; of
     # many cycles, at most ``max_rows`` evenly spaced ones (first and last included).
     n_cycles = max(h.cycles, 1) if h.period is not None else 1

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, _pyplot
+from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, pyplot
 
 
 def plot_drag(r, title: str = ""):
@@ -13,7 +13,7 @@ def plot_drag(r, title: str = ""):
     loading's secant k (from the start to F_p) as a dotted line."""
     from bristlecrawler.states import ContactState
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.0, 4.0))
     kinds = (
         (ContactState.STICK, STICK_STYLE, "stick"),
@@ -49,7 +49,7 @@ def plot_texture(law, samples=None, title: str = ""):
     (against it) below, as steps over the cells (N against the position within the pitch,
     mm); walls and lock positions as vertical lines. ``samples``: optional (position mm,
     force N) of a drag test's reduced tip, shown mod the pitch as dots."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.0, 4.0))
     edges = np.arange(law.n_cells + 1) * law.cell_mm
     fp = np.append(law.fp_N, law.fp_N[-1])

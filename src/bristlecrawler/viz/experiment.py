@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, _pyplot
+from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, pyplot
 
 
 def plot_analysis(analysis, title: str | None = None):
@@ -13,7 +13,7 @@ def plot_analysis(analysis, title: str | None = None):
     from bristlecrawler.experiment.fit import loop_shape
     from bristlecrawler.reduced import closed_form as cf
 
-    plt = _pyplot()
+    plt = pyplot()
     sig, fit = analysis.signals, analysis.fit
     fig, ax = plt.subplots(figsize=(6.8, 5.0))
     i0, i1 = sig.cycles[0, 0], sig.cycles[-1, 2]

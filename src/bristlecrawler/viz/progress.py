@@ -5,7 +5,8 @@ file, a batch job): one line per stage (compiling, gravity step, modal analysis)
 each time the run passes a mark of simulated time (every cycle when the caller gives the
 cycle period, else every tenth of the run). Disabled: silent. A stage can come with a note
 (what it is and how long it is expected to take), printed as a line of its own when the
-stage starts, and its measured time when it ends, in either form.
+stage starts, and its measured time when it ends, in either form. A long command announces
+itself first, in one line (:func:`announce`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,11 @@ from collections.abc import Iterator, Mapping
 from typing import Literal
 
 Mode = Literal["bars", "lines", "off"]
+
+
+def announce(label: str, text: str) -> None:
+    """One line on stderr, before the work starts (``label: text``)."""
+    print(f"{label}: {text}", file=sys.stderr, flush=True)
 
 
 def progress_mode(enabled: bool | None, stream=None) -> Mode:

@@ -25,7 +25,9 @@ STICK_STYLE = {"color": "tab:blue", "linestyle": "--", "linewidth": 1.4}
 SLIP_STYLE = {"color": "tab:red", "linestyle": "-", "linewidth": 1.8}
 
 
-def _pyplot():
+def pyplot():
+    """matplotlib.pyplot, imported on first use, on the Agg backend unless MPLBACKEND says
+    otherwise (figures are written to files)."""
     import matplotlib
 
     if not os.environ.get("MPLBACKEND"):
@@ -39,7 +41,7 @@ def save_figure(fig: Figure, path: str | os.PathLike, dpi: int = 150) -> Path:
     """Save atomically and close the figure."""
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, bbox_inches="tight", format=Path(path).suffix.lstrip("."))
-    _pyplot().close(fig)
+    pyplot().close(fig)
     return Path(path)
 
 
@@ -48,7 +50,7 @@ def plot_delta_vs_s(result: ReducedResult, ax: Axes | None = None, title: str | 
 
     Returns the matplotlib Figure.
     """
-    plt = _pyplot()
+    plt = pyplot()
     if ax is None:
         fig, ax = plt.subplots(figsize=(6.4, 4.8))
     else:
@@ -79,7 +81,7 @@ def plot_delta_vs_s(result: ReducedResult, ax: Axes | None = None, title: str | 
 
 def plot_friction_law(law: DirectionalFriction, ax: Axes | None = None, vmax: float = 1.0):
     """The set-valued force-velocity law of eq. (4.1), as in the paper's Fig. 8."""
-    plt = _pyplot()
+    plt = pyplot()
     if ax is None:
         fig, ax = plt.subplots(figsize=(5.0, 4.0))
     else:

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from bristlecrawler.viz.reduced import _pyplot
+from bristlecrawler.viz.reduced import pyplot
 
 
 def plot_vertical(phases, histories, inclined=None):
     """alpha = 0 from several starting places: Delta(s) of each one-cycle run (left) and
     its advance against the starting place (right), beside the advance per cycle of the
     inclined crawler (``inclined``, mm, or None)."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10.0, 4.2))
     colors = plt.cm.viridis(np.linspace(0.0, 0.9, max(len(histories), 1)))
     for p, h, c in zip(phases, histories, colors, strict=True):
@@ -46,7 +46,7 @@ def plot_study(values, outputs, axis_label: str, title: str, failed=None):
     per value) marks the designs that failed with a red cross at the foot of each panel."""
     import numpy as np
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(outputs), figsize=(4.2 * len(outputs), 3.6), squeeze=False)
     bad = np.zeros(len(values), bool) if failed is None else np.asarray(failed, bool)
     for ax, (label, y) in zip(axes[0], outputs.items(), strict=True):

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from bristlecrawler.jobs.estimates import announce
 from bristlecrawler.jobs.reproduce.drag_part import DRAG
 from bristlecrawler.jobs.reproduce.experiment_part import EXPERIMENT, load_recording
 from bristlecrawler.jobs.reproduce.fe_parts import FE_PAPER, FE_VERTICAL
@@ -26,6 +25,7 @@ from bristlecrawler.jobs.reproduce.reduced_part import REDUCED
 from bristlecrawler.jobs.reproduce.render import Report, markdown, to_html
 from bristlecrawler.jobs.reproduce.study_part import STUDY
 from bristlecrawler.jobs.reproduce.table import Row, build_table
+from bristlecrawler.viz.progress import announce
 
 #: The report's sections, in the order they run (later parts read earlier results).
 PARTS: tuple[Part, ...] = (EXPERIMENT, FE_PAPER, FE_VERTICAL, REDUCED, DRAG, STUDY)
