@@ -75,7 +75,8 @@ def test_a_new_quantity_is_one_declaration(monkeypatch):
         from_records=lambda r: np.gradient(r.tips, r.t, axis=0),
     )
     records = type("Records", (), {"t": h.t, "tips": h.tip_position[..., 0]})()
-    fields = quant.history_fields(records, [extra])
+    attributes = frozenset(f.name for f in dataclasses.fields(h))
+    fields = quant.history_fields(records, attributes, [extra])
     assert list(fields) == ["quantities"]
     monkeypatch.setattr(quant, "QUANTITIES", (*QUANTITIES, extra))
     monkeypatch.setattr("bristlecrawler.crawler.dataset.QUANTITIES", quant.QUANTITIES)

@@ -26,13 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.states import ContactState
 
 #: Marker of the output reference page that :func:`quantities_markdown` replaces.
 MARKER = "<!-- crawler-variables -->"
-
-_FIELDS = frozenset(f.name for f in dataclasses.fields(CrawlerHistory))
 
 
 class RunRecords:
@@ -107,7 +104,7 @@ class Quantity:
     unit: str
     description: str
     from_records: Callable[[RunRecords], Any] | None = None
-    from_history: Callable[[CrawlerHistory], Any] | None = None
+    from_history: Callable[[Any], Any] | None = None
     field: str = ""
     flags: tuple[str, ...] = ()
     dtype: str | None = None
@@ -119,13 +116,14 @@ class Quantity:
         """Where the history keeps it (``field``, else ``name``)."""
         return self.field or self.name
 
-    def value(self, h: CrawlerHistory):
-        """The dataset's values of this quantity for the history ``h`` (None: absent)."""
+    def value(self, h):
+        """The dataset's values of this quantity for the history ``h`` (a
+        :class:`.history.CrawlerHistory`; None: absent)."""
         if self.from_history is not None:
             v = self.from_history(h)
         else:
             head, _, key = self.home.partition(".")
-            if head not in _FIELDS:
+            if head not in {f.name for f in dataclasses.fields(h)}:
                 v = h.quantities.get(self.name)
             else:
                 v = getattr(h, head)
@@ -162,7 +160,7 @@ def _energy(key: str, description: str) -> Quantity:
     )
 
 
-def _residual(h: CrawlerHistory) -> np.ndarray:
+def _residual(h) -> np.ndarray:
     r = h.energy_balance_residual()
     return r - r[0]
 
@@ -231,17 +229,20 @@ QUANTITIES: tuple[Quantity, ...] = (
 )  # fmt: skip
 
 
-def history_fields(run: RunRecords, quantities: Sequence[Quantity] = QUANTITIES) -> dict:
-    """The :class:`CrawlerHistory` arguments that the quantities computed from records
-    fill (mapping entries gathered into their mapping, quantities without an attribute of
-    their own into ``quantities``)."""
+def history_fields(
+    run: RunRecords, attributes: frozenset[str], quantities: Sequence[Quantity] = QUANTITIES
+) -> dict:
+    """The history's arguments that the quantities computed from records fill: mapping
+    entries gathered into their mapping, quantities that are not among the history's
+    ``attributes`` (the field names of :class:`.history.CrawlerHistory`, given by the
+    caller so that this module needs no history) into ``quantities``."""
     out: dict[str, Any] = {}
     for q in quantities:
         if q.from_records is None:
             continue
         value = q.from_records(run)
         head, _, key = q.home.partition(".")
-        if head not in _FIELDS:
+        if head not in attributes:
             out.setdefault("quantities", {})[q.name] = value
         elif key:
             out.setdefault(head, {})[key] = value

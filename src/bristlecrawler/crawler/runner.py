@@ -16,6 +16,7 @@ point goes too deep (:class:`fe.Integrator`), and when the step's energy balance
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -518,6 +519,10 @@ def run_stages(crawler, stages: Sequence[Stage], options=None, on_progress=None)
     return ctx
 
 
+#: The attributes of a :class:`CrawlerHistory`.
+_HISTORY_FIELDS = frozenset(f.name for f in dataclasses.fields(CrawlerHistory))
+
+
 def history_of(ctx: RunContext) -> CrawlerHistory:
     """The :class:`CrawlerHistory` of a ctx's records (times from the stroke's start): its
     series are the declared quantities (:mod:`.quantities`), computed from the records."""
@@ -534,7 +539,7 @@ def history_of(ctx: RunContext) -> CrawlerHistory:
         **ctx.stats,
     }
     return CrawlerHistory(
-        **history_fields(RunRecords(ctx.records, ctx.crawler, spec)),
+        **history_fields(RunRecords(ctx.records, ctx.crawler, spec), _HISTORY_FIELDS),
         period=a.period if a.history is None else None,
         cycles=a.cycles,
         stats=stats,
