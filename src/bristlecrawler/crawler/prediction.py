@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bristlecrawler.crawler.metrics import run_metrics
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.reduced import (
     ReducedCrawler,
@@ -23,6 +24,7 @@ from bristlecrawler.reduced import (
     peristaltic,
     simulate,
 )
+from bristlecrawler.reduced.metrics import RunMetrics
 
 
 def reduced_twin(spec: CrawlerSpec, drag) -> ReducedCrawler:
@@ -112,18 +114,18 @@ def compare(spec: CrawlerSpec, drag, fe_history) -> Prediction:
     the same design (``crawler.run(spec)``)."""
     from bristlecrawler.crawler.drag_analysis import substrate_pitch
 
-    red = reduced_run(spec, drag)
-    red_cycles = red.per_cycle()[0]
+    red = RunMetrics.from_reduced(reduced_run(spec, drag))
+    fe = run_metrics(fe_history)
     twin = reduced_twin(spec, drag)
     return Prediction(
         s_max=spec.actuation.peak,
         alpha_deg=math.degrees(spec.bristles[0].alpha),
-        fe_advance=float(fe_history.net_advance),
+        fe_advance=fe.net_advance,
         reduced_advance=red.net_advance,
-        fe_work=float(fe_history.connector_work[-1]),
-        reduced_work=float(red.work[-1]),
-        fe_per_cycle=np.asarray(fe_history.advance_per_cycle()),
-        reduced_per_cycle=np.asarray(red_cycles),
+        fe_work=fe.work,
+        reduced_work=red.work,
+        fe_per_cycle=np.asarray(fe.advance_per_cycle),
+        reduced_per_cycle=np.asarray(red.advance_per_cycle),
         pitch=substrate_pitch(spec),
         fp_over_k=float(twin.fp[0] / twin.k[0]),
     )

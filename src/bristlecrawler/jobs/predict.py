@@ -14,9 +14,11 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
+
+from bristlecrawler.reduced.metrics import RunMetrics
 
 #: Bump when the drag test or its analysis changes what a cached summary holds.
 CACHE_VERSION = 2
@@ -83,16 +85,7 @@ def cached_drag(sc, test, progress: bool | None = False) -> tuple[dict, bool]:
     return summary, False
 
 
-@dataclass(frozen=True)
-class ModelPrediction:
-    """One reduced model's prediction: advance per cycle (mm), net advance (mm), work (mJ)."""
-
-    advance_per_cycle_mm: list[float]
-    net_advance_mm: float
-    work_mJ: float
-
-
-def predict_models(spec, summary: dict, cycles: int) -> dict[str, ModelPrediction]:
+def predict_models(spec, summary: dict, cycles: int) -> dict[str, RunMetrics]:
     """The texture model and the paper's model of ``spec`` with a drag ``summary``."""
     import numpy as np
 
@@ -107,8 +100,7 @@ def predict_models(spec, summary: dict, cycles: int) -> dict[str, ModelPredictio
     out = {}
     for name, crawler in (("texture", textured), ("paper", reduced_twin(spec, summary))):
         r = simulate(crawler, reduced_gait(spec), cycles=cycles, samples_per_cycle=400)
-        adv, _ = r.per_cycle()
-        out[name] = ModelPrediction([float(a) for a in adv], r.net_advance, float(r.work[-1]))
+        out[name] = RunMetrics.from_reduced(r)
     return out
 
 
@@ -127,7 +119,7 @@ def run_predict(sc, cycles: int | None = None, progress: bool | None = False) ->
     return {
         "scenario": sc.name,
         "cycles": cycles,
-        **{name: asdict(m) for name, m in models.items()},
+        **{name: m.to_dict() for name, m in models.items()},
         "drag": {
             "cached": hit,
             "k_N_per_mm": summary["k_N_per_mm"],

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.reduced import closed_form as cf
+from bristlecrawler.reduced.metrics import RunMetrics
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import ReducedResult
 from bristlecrawler.scenario.reduced import ReducedConfig, build
@@ -28,11 +29,8 @@ class ReducedRun:
 
 def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
     """Summary numbers (units in the key names)."""
-    adv, work = result.per_cycle()
-    out: dict[str, Any] = {
-        "net_advance_mm": result.net_advance,
-        "advance_per_cycle_mm": adv.tolist(),
-        "work_mJ": float(result.work[-1]),
+    _, work = result.per_cycle()
+    out: dict[str, Any] = RunMetrics.from_reduced(result).to_dict() | {
         "work_per_cycle_mJ": work.tolist(),
         "dissipation_mJ": float(result.dissipation[-1]),
         "final_elastic_energy_mJ": float(result.elastic_energy[-1]),

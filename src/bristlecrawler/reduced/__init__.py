@@ -9,6 +9,8 @@ Public API (units: mm, N, s, mJ):
 * :func:`simulate` / :func:`solve`: the exact rate-independent solver -> :class:`ReducedResult`.
 * :mod:`closed_form`: two-bristle closed forms in all regimes (vectorised).
 * :func:`calibrate`: F_p/k, F_p, k from advance and work.
+* :class:`RunMetrics`, :class:`DesignMetrics`: what a run gives (any model), typed, with
+  ``to_dict`` for the JSON files.
 * :class:`TextureLaw`: a bristle's resistance over its tip's position within a pitch;
   :class:`TexturedCrawler`: N bristles on it (``simulate`` solves it exactly);
   :mod:`textured_pair`: two-bristle designs in batches.
@@ -28,6 +30,7 @@ from bristlecrawler.reduced.crawler import (
 )
 from bristlecrawler.reduced.friction import DirectionalFriction
 from bristlecrawler.reduced.gaits import Gait, breathing, peristaltic
+from bristlecrawler.reduced.metrics import DesignMetrics, RunMetrics
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import (
     SLIP_BACKWARD,
@@ -58,11 +61,13 @@ __all__ = [
     "SLIP_FORWARD",
     "SLIP_NONE",
     "Calibration",
+    "DesignMetrics",
     "DirectionalFriction",
     "Event",
     "Gait",
     "ReducedCrawler",
     "ReducedResult",
+    "RunMetrics",
     "SampledStroke",
     "Sin2Stroke",
     "TextureLaw",

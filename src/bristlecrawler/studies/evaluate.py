@@ -12,23 +12,10 @@ from typing import Any
 
 import numpy as np
 
-# name -> (unit, description); every design of every model gives all of them.
-OUTPUTS: dict[str, tuple[str, str]] = {
-    "net_advance_mm": ("mm", "displacement of the front end at the end of the run"),
-    "advance_per_cycle_mm": ("mm", "net advance divided by the number of cycles"),
-    "last_cycle_advance_mm": ("mm", "advance of the last cycle (the steady gait)"),
-    "work_mJ": ("mJ", "actuator (connector) work over the run"),
-    "cost_of_transport_mJ_per_mm": (
-        "mJ/mm",
-        "work per mm of net advance (NaN where the crawler does not advance)",
-    ),
-    "mean_abs_connector_force_N": ("N", "time mean of the actuator force |F_c|"),
-    "max_abs_connector_force_N": ("N", "largest actuator force |F_c|"),
-    "energy_balance_rel_error": ("1", "energy-balance residual relative to the work"),
-    "steps": ("1", "time steps (fe) or samples (reduced exact solver; 0: closed form)"),
-    "newton_iterations": ("1", "Newton iterations (fe; 0 for the reduced model)"),
-    "wall_time_s": ("s", "wall time of the design on its worker"),
-}
+from bristlecrawler.reduced.metrics import DESIGN_OUTPUTS, DesignMetrics
+
+#: name -> (unit, description); every design of every model gives all of them.
+OUTPUTS: dict[str, tuple[str, str]] = DESIGN_OUTPUTS
 INTEGER_OUTPUTS = ("steps", "newton_iterations")
 
 
@@ -39,15 +26,6 @@ class DesignStatus(enum.IntEnum):
     DONE = 1
     FAILED = 2  # the model refused or could not finish it: see its error message
     LOST = 3  # its task's worker died more often than the scheduler retries
-
-
-def _derived(out: dict[str, Any], cycles) -> dict[str, Any]:
-    adv = np.asarray(out["net_advance_mm"], float)
-    work = np.asarray(out["work_mJ"], float)
-    out["advance_per_cycle_mm"] = adv / np.asarray(cycles, float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out["cost_of_transport_mJ_per_mm"] = np.where(adv > 0, work / adv, np.nan)
-    return out
 
 
 def evaluate_fe(scenario: dict[str, Any]) -> dict[str, Any]:
@@ -61,11 +39,8 @@ def evaluate_fe(scenario: dict[str, Any]) -> dict[str, Any]:
 
 
 def _fe_outputs(history, cycles) -> dict[str, float]:
-    summary = history.summary()
-    per_cycle = summary["advance_per_cycle_mm"]
-    out = {k: summary[k] for k in OUTPUTS if k in summary}
-    out["last_cycle_advance_mm"] = per_cycle[-1] if per_cycle else np.nan
-    return {k: float(v) for k, v in _derived(out, cycles).items()}
+    metrics = DesignMetrics.from_summary(history.summary(), cycles)
+    return {k: float(v) for k, v in metrics.to_dict().items()}
 
 
 def evaluate_fe_batch(scenarios: list[dict[str, Any]], width: int) -> list[dict[str, Any] | str]:
@@ -95,19 +70,18 @@ def _closed_form(s, fp, k, n) -> dict[str, np.ndarray]:
     scale = np.maximum.reduce([np.abs(work), dissipation, elastic])
     with np.errstate(divide="ignore", invalid="ignore"):
         balance = np.where(scale > 0, np.abs(work - elastic - dissipation) / scale, 0.0)
-    out = {
-        "net_advance_mm": cf.net_advance(s, c, n),
-        "last_cycle_advance_mm": np.where(
-            n > 1, cf.net_advance_later(s, c), cf.net_advance_first(s, c)
-        ),
-        "work_mJ": work,
-        "mean_abs_connector_force_N": cf.mean_abs_force(s, fp, k, n),
-        "max_abs_connector_force_N": cf.peak_force(s, fp, k),
-        "energy_balance_rel_error": balance,
-        "steps": np.zeros(s.shape),
-        "newton_iterations": np.zeros(s.shape),
-    }
-    return _derived(out, n)
+    metrics = DesignMetrics(
+        net_advance=cf.net_advance(s, c, n),
+        last_cycle_advance=np.where(n > 1, cf.net_advance_later(s, c), cf.net_advance_first(s, c)),
+        cycles=n,
+        work=work,
+        mean_abs_connector_force=cf.mean_abs_force(s, fp, k, n),
+        max_abs_connector_force=cf.peak_force(s, fp, k),
+        energy_balance_rel_error=balance,
+        steps=np.zeros(s.shape),
+        newton_iterations=np.zeros(s.shape),
+    )
+    return metrics.to_dict()
 
 
 def evaluate_reduced(config: dict[str, Any]) -> dict[str, float]:
@@ -119,21 +93,7 @@ def evaluate_reduced(config: dict[str, Any]) -> dict[str, float]:
     cfg = parse_model(ReducedConfig, config)
     crawler, gait = build(cfg)
     r = simulate(crawler, gait, cfg.cycles, cfg.samples_per_cycle)
-    adv, _ = r.per_cycle()
-    # The actuator of segment j carries the bristle forces on its left: F_c = -sum_{i<=j} F_i.
-    fc = np.abs(np.cumsum(r.force, axis=1)[:, :-1])
-    span = max(float(r.t[-1] - r.t[0]), 1e-300)
-    out = {
-        "net_advance_mm": r.net_advance,
-        "last_cycle_advance_mm": float(adv[-1]) if adv.size else np.nan,
-        "work_mJ": float(r.work[-1]),
-        "mean_abs_connector_force_N": float(np.trapezoid(fc.mean(axis=1), r.t) / span),
-        "max_abs_connector_force_N": float(fc.max()),
-        "energy_balance_rel_error": r.energy_balance_error,
-        "steps": int(r.t.size),
-        "newton_iterations": 0,
-    }
-    return {k: float(v) for k, v in _derived(out, cfg.cycles).items()}
+    return {k: float(v) for k, v in DesignMetrics.from_reduced(r, cfg.cycles).to_dict().items()}
 
 
 def evaluate_reduced_chunk(

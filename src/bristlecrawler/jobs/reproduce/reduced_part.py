@@ -11,12 +11,13 @@ S_MAX_MM, CYCLES, ADVANCE_MM, WORK_MJ = 20.0, 5, 82.0, 75.0
 
 def run_reduced(ctx: Context) -> PartResult:
     from bristlecrawler.reduced import ReducedCrawler, Sin2Stroke, calibrate, simulate
+    from bristlecrawler.reduced.metrics import RunMetrics
     from bristlecrawler.viz.reduced import plot_delta_vs_s, plot_friction_law, save_figure
 
     cal = calibrate(S_MAX_MM, CYCLES, ADVANCE_MM, WORK_MJ)
     crawler = ReducedCrawler.two_bristle(k=cal.k_N_per_mm, fp=cal.fp_N)
     res = simulate(crawler, Sin2Stroke(S_MAX_MM, 20.0), cycles=CYCLES)
-    advance, _ = res.per_cycle()
+    metrics = RunMetrics.from_reduced(res)
     figs = (
         Figure(
             "reduced-friction-law.png", "The directional friction law, eq. (4.1): paper Fig. 8."
@@ -37,18 +38,15 @@ def run_reduced(ctx: Context) -> PartResult:
         "",
         f"* F_p/k = **{cal.fp_over_k_mm:.3f} mm**, F_p = **{cal.fp_N:.3f} N**, "
         f"k = **{cal.k_N_per_mm:.3f} N/mm** (paper: 0.95 mm, 0.45 N, 0.48 N/mm)",
-        f"* with them, five cycles: net advance {res.net_advance:.2f} mm (per cycle "
-        + ", ".join(f"{a:.2f}" for a in advance)
-        + f" mm), work {float(res.work[-1]):.2f} mJ",
+        f"* with them, five cycles: net advance {metrics.net_advance:.2f} mm (per cycle "
+        + ", ".join(f"{a:.2f}" for a in metrics.advance_per_cycle)
+        + f" mm), work {metrics.work:.2f} mJ",
         "",
         "Calibrated from our FE run (its advance and connector work over its cycles):",
         "",
         _fe_line(ours),
     ]
-    values = {
-        "net_advance_mm": res.net_advance,
-        "advance_per_cycle_mm": advance.tolist(),
-        "work_mJ": float(res.work[-1]),
+    values = metrics.to_dict() | {
         "paper_calibration": cal.as_dict(),
         "fe_calibration": ours,
     }
