@@ -157,6 +157,22 @@ def test_a_linear_spring_with_a_directional_law_gives_back_its_k_fp_and_fn():
     assert s["k_initial_N_per_mm"] == pytest.approx(0.8, rel=1e-6)
 
 
+def test_the_typed_summary_is_the_summary_files_mapping():
+    """``summary()`` is ``summarize().to_dict()``, and reads back to the same values."""
+    from bristlecrawler.io.jsonio import dumps_strict
+    from bristlecrawler.reduced.drag_summary import DragSummary
+
+    r = _spring_drag()
+    typed = r.summarize()
+    assert (typed.k, typed.fp, typed.fn) == (
+        pytest.approx(0.8, rel=1e-9),
+        pytest.approx(0.2, rel=1e-9),
+        pytest.approx(0.5, rel=1e-9),
+    )
+    text = dumps_strict(r.summary())
+    assert dumps_strict(DragSummary.from_dict(r.summary()).to_dict()) == text
+
+
 @pytest.mark.slow
 def test_on_a_flat_plane_the_secant_stiffness_is_the_beams_too():
     """A bristle that sticks until mu N on a flat plane is a linear spring up to its slip:

@@ -19,20 +19,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bristlecrawler.crawler.record import energy_series
+from bristlecrawler.reduced.drag_summary import DragSummary, Sliding
 from bristlecrawler.states import ContactState
-
-
-@dataclass(frozen=True)
-class Sliding:
-    """Sliding in one direction: the mean force (N, magnitude), its pitch-to-pitch
-    standard deviation and range, the peak magnitude, and the pitches it was read over."""
-
-    mean: float
-    scatter: float
-    low: float
-    high: float
-    peak: float
-    pitches: int
 
 
 @dataclass(frozen=True)
@@ -144,43 +132,31 @@ class DragResult:
         lost = self.energies["friction"][-1] + self.energies["damping"][-1]
         return float(lost / max(travel, 1e-300))
 
-    def summary(self) -> dict:
-        """The parameters (units in the keys; NaN where the test does not give one)."""
-        nan = math.nan
+    def summarize(self) -> DragSummary:
+        """The parameters as a typed result (NaN where the test does not give one)."""
         along, against = self.sliding(+1), self.sliding(-1)
         unload = [self.secant_stiffness(i) for i in range(1, len(self.legs))]
         unload = [v for v in unload if math.isfinite(v)]
+        return DragSummary(
+            k=self.secant_stiffness(0),
+            k_unload=float(np.mean(unload)) if unload else math.nan,
+            k_initial=self.stick_slope(0),
+            along=along,
+            against=against,
+            mu_load=self.mu * self.load,
+            load=self.load,
+            dissipation_per_mm=self.dissipation_per_mm(),
+            energy_balance_rel_error=self.energy_balance_rel_error(),
+            steps=int(self.stats.get("steps", self.t.size - 1)),
+            newton_iterations=int(self.stats.get("newton_iterations", 0)),
+            wall_time=float(self.stats.get("wall_time_s", math.nan)),
+            texture=self.texture(),
+        )
 
-        def part(s: Sliding | None, name: str) -> dict:
-            if s is None:
-                return {f"{name}_N": nan, f"{name}_scatter_N": nan, f"{name}_peak_N": nan}
-            return {
-                f"{name}_N": s.mean,
-                f"{name}_scatter_N": s.scatter,
-                f"{name}_range_N": [s.low, s.high],
-                f"{name}_peak_N": s.peak,
-                f"{name}_pitches": s.pitches,
-            }
-
-        fp = along.mean if along else nan
-        k = self.secant_stiffness(0)
-        law = self.texture()
-        return {
-            "k_N_per_mm": k,
-            "k_unload_N_per_mm": float(np.mean(unload)) if unload else nan,
-            "k_initial_N_per_mm": self.stick_slope(0),
-            **part(along, "fp"),
-            **part(against, "fn"),
-            "fp_over_k_mm": fp / k if k and math.isfinite(k) else nan,
-            "mu_load_N": self.mu * self.load,
-            "load_N": self.load,
-            "dissipation_mJ_per_mm": self.dissipation_per_mm(),
-            "energy_balance_rel_error": self.energy_balance_rel_error(),
-            "steps": int(self.stats.get("steps", self.t.size - 1)),
-            "newton_iterations": int(self.stats.get("newton_iterations", 0)),
-            "wall_time_s": float(self.stats.get("wall_time_s", nan)),
-            "texture": law.to_dict() if law is not None else None,
-        }
+    def summary(self) -> dict:
+        """The parameters (units in the keys; NaN where the test does not give one):
+        :meth:`summarize` as a JSON-ready mapping."""
+        return self.summarize().to_dict()
 
     def texture(self, cells: int | None = None):
         """The bristle's :class:`~bristlecrawler.reduced.texture.TextureLaw` (resistance

@@ -18,6 +18,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
+from bristlecrawler.reduced.drag_summary import FN_N, FP_N, K_N_PER_MM, DragSummary
 from bristlecrawler.reduced.metrics import RunMetrics
 
 #: Bump when the drag test or its analysis changes what a cached summary holds.
@@ -57,7 +58,7 @@ def cache_key(sc, test) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def cached_drag(sc, test, progress: bool | None = False) -> tuple[dict, bool]:
+def cached_drag(sc, test, progress: bool | None = False) -> tuple[DragSummary, bool]:
     """The drag summary for ``sc`` and ``test`` from the cache, or run and stored.
     Returns (summary, whether it came from the cache)."""
     from bristlecrawler.io.atomic import atomic_write_text
@@ -67,7 +68,7 @@ def cached_drag(sc, test, progress: bool | None = False) -> tuple[dict, bool]:
     try:
         entry = json.loads(path.read_text())
         if entry.get("version") == CACHE_VERSION and isinstance(entry["summary"]["texture"], dict):
-            return entry["summary"], True
+            return DragSummary.from_dict(entry["summary"]), True
     except (OSError, ValueError, KeyError, TypeError):
         pass  # missing or unreadable: run it again
     from bristlecrawler.jobs.drag import run_drag
@@ -82,11 +83,12 @@ def cached_drag(sc, test, progress: bool | None = False) -> tuple[dict, bool]:
         atomic_write_text(path, dumps_strict({"version": CACHE_VERSION, "summary": summary}))
     except OSError:
         pass  # a read-only cache only costs the next run its drag test
-    return summary, False
+    return DragSummary.from_dict(summary), False
 
 
-def predict_models(spec, summary: dict, cycles: int) -> dict[str, RunMetrics]:
-    """The texture model and the paper's model of ``spec`` with a drag ``summary``."""
+def predict_models(spec, summary: DragSummary | dict, cycles: int) -> dict[str, RunMetrics]:
+    """The texture model and the paper's model of ``spec`` with a drag ``summary`` (typed
+    or its JSON mapping)."""
     import numpy as np
 
     from bristlecrawler.crawler.prediction import reduced_gait, reduced_twin
@@ -115,17 +117,17 @@ def run_predict(sc, cycles: int | None = None, progress: bool | None = False) ->
     cycles = cycles or spec.actuation.cycles
     summary, hit = cached_drag(sc, test, progress)
     models = predict_models(spec, summary, cycles)
-    law = summary["texture"]
+    law = summary.texture
     return {
         "scenario": sc.name,
         "cycles": cycles,
         **{name: m.to_dict() for name, m in models.items()},
         "drag": {
             "cached": hit,
-            "k_N_per_mm": summary["k_N_per_mm"],
-            "fp_N": summary["fp_N"],
-            "fn_N": summary["fn_N"],
-            "pitch_mm": law["pitch_mm"],
-            "lock_positions_mm": law["lock_positions_mm"],
+            K_N_PER_MM: summary.k,
+            FP_N: summary.fp,
+            FN_N: summary.fn,
+            "pitch_mm": law.pitch_mm,
+            "lock_positions_mm": law.lock_positions_mm.tolist(),
         },
     }

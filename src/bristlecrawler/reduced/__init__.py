@@ -10,7 +10,7 @@ Public API (units: mm, N, s, mJ):
 * :mod:`closed_form`: two-bristle closed forms in all regimes (vectorised).
 * :func:`calibrate`: F_p/k, F_p, k from advance and work.
 * :class:`RunMetrics`, :class:`DesignMetrics`: what a run gives (any model), typed, with
-  ``to_dict`` for the JSON files.
+  ``to_dict`` for the JSON files; :class:`DragSummary`: what a drag test gives.
 * :class:`TextureLaw`: a bristle's resistance over its tip's position within a pitch;
   :class:`TexturedCrawler`: N bristles on it (``simulate`` solves it exactly);
   :mod:`textured_pair`: two-bristle designs in batches.
@@ -28,6 +28,7 @@ from bristlecrawler.reduced.crawler import (
     PAPER_S_MAX,
     ReducedCrawler,
 )
+from bristlecrawler.reduced.drag_summary import DragSummary
 from bristlecrawler.reduced.friction import DirectionalFriction
 from bristlecrawler.reduced.gaits import Gait, breathing, peristaltic
 from bristlecrawler.reduced.metrics import DesignMetrics, RunMetrics
@@ -63,6 +64,7 @@ __all__ = [
     "Calibration",
     "DesignMetrics",
     "DirectionalFriction",
+    "DragSummary",
     "Event",
     "Gait",
     "ReducedCrawler",

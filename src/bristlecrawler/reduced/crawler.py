@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.reduced.drag_summary import FN_N, FP_N, K_N_PER_MM, DragSummary, summary_of
 from bristlecrawler.reduced.friction import DirectionalFriction
 
 #: Paper values (Section 4): F_p/k = 0.95 mm, k = 0.48 N/mm, L = 100 mm, s~ = 20 mm, T = 20 s.
@@ -115,10 +116,11 @@ class ReducedCrawler:
         """The crawler whose bristles all have a drag test's k, F_p and F_n.
 
         Args:
-            drag: a drag test's result (anything with ``summary()``, such as
+            drag: a drag test's :class:`~bristlecrawler.reduced.drag_summary.DragSummary`,
+                its result (anything with ``summarize()`` or ``summary()``, such as
                 ``bristlecrawler.crawler.drag.DragResult``) or its summary mapping: reads
-                ``k_N_per_mm`` (first-loading slope), ``fp_N`` and ``fn_N``; a sequence of
-                them gives each bristle its own.
+                k (first-loading slope), F_p and F_n; a sequence of them gives each
+                bristle its own.
             n_bristles: number of bristles, spread evenly over ``length`` (mm), unless
                 ``segment_lengths`` (mm, N-1 values) places them.
 
@@ -185,8 +187,10 @@ class ReducedCrawler:
 
 def _drag_values(drag) -> tuple[float, float, float]:
     """(k, F_p, F_n) of a drag test's summary, refused with the missing one's name."""
-    summary = drag.summary() if hasattr(drag, "summary") else drag
-    names = {"k_N_per_mm": "k", "fp_N": "F_p", "fn_N": "F_n"}
+    summary = summary_of(drag)
+    if isinstance(summary, DragSummary):
+        summary = {K_N_PER_MM: summary.k, FP_N: summary.fp, FN_N: summary.fn}
+    names = {K_N_PER_MM: "k", FP_N: "F_p", FN_N: "F_n"}
     out = []
     for key, name in names.items():
         try:

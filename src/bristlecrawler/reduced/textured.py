@@ -19,6 +19,7 @@ import numpy as np
 
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.reduced.crawler import PAPER_LENGTH, ReducedCrawler
+from bristlecrawler.reduced.drag_summary import DragSummary, summary_of
 from bristlecrawler.reduced.solver import Event, ReducedResult, Stepper, checked_samples
 from bristlecrawler.reduced.texture import TextureLaw
 
@@ -75,18 +76,22 @@ class TexturedCrawler:
         at substrate position ``start_mm`` (mm).
 
         Args:
-            drag: a drag test's result (anything with ``summary()``, such as
+            drag: a drag test's :class:`~bristlecrawler.reduced.drag_summary.DragSummary`,
+                its result (anything with ``summarize()`` or ``summary()``, such as
                 ``bristlecrawler.crawler.drag.DragResult``) or its summary mapping: reads
-                ``texture`` (a drag test with direction cycle); a sequence of them gives
-                each bristle its own.
+                the texture law (a drag test with direction cycle); a sequence of them
+                gives each bristle its own.
             n_bristles: number of bristles, spread evenly over ``length`` (mm), unless
                 ``segment_lengths`` (mm, N-1 values) places them.
         """
         drags = list(drag) if isinstance(drag, list | tuple) else None
         laws = []
         for d in drags or [drag]:
-            summary = d.summary() if hasattr(d, "summary") else d
-            law = summary.get("texture") if isinstance(summary, dict) else None
+            summary = summary_of(d)
+            if isinstance(summary, DragSummary):
+                law = summary.texture
+            else:
+                law = summary.get("texture") if isinstance(summary, dict) else None
             if law is None:
                 raise InputError("the drag test gives no texture law (run direction cycle)")
             laws.append(law if isinstance(law, TextureLaw) else TextureLaw.from_dict(law))
