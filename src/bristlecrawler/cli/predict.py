@@ -53,15 +53,17 @@ def _print(r: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from bristlecrawler.reduced.metrics import RunMetrics
+
     table = Table(title=f"{r['scenario']}: reduced models, {r['cycles']} cycles")
     table.add_column("model")
     table.add_column("advance per cycle (mm)", justify="right")
     table.add_column("net advance (mm)", justify="right")
     table.add_column("work (mJ)", justify="right")
     for name, label in (("texture", "texture law"), ("paper", "paper (k, F_p, F_n)")):
-        m = r[name]
-        per = ", ".join(f"{a:.2f}" for a in m["advance_per_cycle_mm"])
-        table.add_row(label, per, f"{m['net_advance_mm']:.3f}", f"{m['work_mJ']:.3f}")
+        m = RunMetrics.from_dict(r[name])
+        per = ", ".join(f"{a:.2f}" for a in m.advance_per_cycle)
+        table.add_row(label, per, f"{m.net_advance:.3f}", f"{m.work:.3f}")
     console = Console()
     console.print(table)
     d = r["drag"]

@@ -139,16 +139,17 @@ def _print_summary(summary: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from bristlecrawler.reduced.metrics import RunMetrics
+
+    m = RunMetrics.from_dict(summary)
     table = Table(title="reduced model", show_header=True)
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    table.add_row("net advance (mm)", f"{summary['net_advance_mm']:.4f}")
+    table.add_row("net advance (mm)", f"{m.net_advance:.4f}")
     if "closed_form_net_advance_mm" in summary:
         table.add_row("  closed form (mm)", f"{summary['closed_form_net_advance_mm']:.4f}")
-    table.add_row(
-        "advance per cycle (mm)", ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"])
-    )
-    table.add_row("actuator work (mJ)", f"{summary['work_mJ']:.4f}")
+    table.add_row("advance per cycle (mm)", ", ".join(f"{a:.3f}" for a in m.advance_per_cycle))
+    table.add_row("actuator work (mJ)", f"{m.work:.4f}")
     if "closed_form_work_mJ" in summary:
         table.add_row("  closed form (mJ)", f"{summary['closed_form_work_mJ']:.4f}")
     table.add_row(

@@ -155,14 +155,15 @@ def _print_summary(summary: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from bristlecrawler.reduced.metrics import RunMetrics
+
+    m = RunMetrics.from_dict(summary)
     table = Table(title=f"finite-element crawler: {summary['scenario']}")
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    table.add_row("net advance (mm)", f"{summary['net_advance_mm']:.3f}")
-    table.add_row(
-        "advance per cycle (mm)", ", ".join(f"{a:.2f}" for a in summary["advance_per_cycle_mm"])
-    )
-    table.add_row("connector work W_c (mJ)", f"{summary['work_mJ']:.3f}")
+    table.add_row("net advance (mm)", f"{m.net_advance:.3f}")
+    table.add_row("advance per cycle (mm)", ", ".join(f"{a:.2f}" for a in m.advance_per_cycle))
+    table.add_row("connector work W_c (mJ)", f"{m.work:.3f}")
     table.add_row("mean |F_c| (N)", f"{summary['mean_abs_connector_force_N']:.3f}")
     table.add_row("energy balance residual / W_c", f"{summary['energy_balance_rel_error']:.1e}")
     table.add_row("first frequency (Hz)", f"{summary['first_frequency_hz']:.2f}")

@@ -69,8 +69,9 @@ def _prediction(ctx: Context, k: float, fp: float, fn: float) -> dict | None:
     """The reduced model fed with the drag test's parameters over the FE run's cycles, or
     None when the FE run or a parameter is missing."""
     from bristlecrawler.reduced import ReducedCrawler, Sin2Stroke, simulate
+    from bristlecrawler.reduced.metrics import NET_ADVANCE_MM
 
-    fe = ctx.value("fe-paper", "net_advance_mm")
+    fe = ctx.value("fe-paper", NET_ADVANCE_MM)
     cycles = ctx.value("fe-paper", "cycles")
     if fe is None or not all(math.isfinite(v) and v > 0 for v in (k, fp, fn)):
         return None

@@ -48,6 +48,7 @@ def solve(sc, ctx: Context, share: tuple[float, float] = (0.0, 1.0)):
 
 def run_paper(ctx: Context) -> PartResult:
     from bristlecrawler.jobs.simulate import frame_subset, summarize
+    from bristlecrawler.reduced.metrics import RunMetrics
     from bristlecrawler.viz.crawler import animate, plot_connector, plot_delta_vs_s, plot_shapes
     from bristlecrawler.viz.reduced import save_figure
 
@@ -79,29 +80,23 @@ def run_paper(ctx: Context) -> PartResult:
     keep = frame_subset(h, ctx.settings.frames_per_cycle)
     framed = dataclasses.replace(h, frame_t=h.frame_t[keep], frame_nodes=h.frame_nodes[keep])
     animate(framed, ctx.folder / "fe-crawler")
-    per_cycle = ", ".join(f"{a:.3f}" for a in summary["advance_per_cycle_mm"])
+    metrics = RunMetrics.from_dict(summary)
+    per_cycle = ", ".join(f"{a:.3f}" for a in metrics.advance_per_cycle)
     lines = [
         f"The shipped `paper` scenario (alpha = 45 degrees, {sc.bristle.elements} elements "
         f"per bristle, {_cycles(n)} of s = 20 sin²(πt/20) mm; `bristlecrawler simulate paper` "
         "writes the same run with its NetCDF and ParaView files).",
         "",
-        f"* net advance **{summary['net_advance_mm']:.3f} mm** (per cycle: {per_cycle} mm)",
-        f"* connector work W_c = **{summary['work_mJ']:.2f} mJ**, mean |F_c| = "
+        f"* net advance **{metrics.net_advance:.3f} mm** (per cycle: {per_cycle} mm)",
+        f"* connector work W_c = **{metrics.work:.2f} mJ**, mean |F_c| = "
         f"{summary['mean_abs_connector_force_N']:.3f} N",
         f"* energy balance residual {summary['energy_balance_rel_error']:.1%} of W_c; "
         f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations",
     ]
     lines += [f"* warning: {w}" for w in summary["warnings"]]
-    keys = (
-        "net_advance_mm",
-        "advance_per_cycle_mm",
-        "work_mJ",
-        "mean_abs_connector_force_N",
-        "energy_balance_rel_error",
-        "steps",
-        "wall_time_s",
-    )
-    values = {k: summary[k] for k in keys} | {"cycles": n, "elements": sc.bristle.elements}
+    keys = ("mean_abs_connector_force_N", "energy_balance_rel_error", "steps", "wall_time_s")
+    values = metrics.to_dict() | {k: summary[k] for k in keys}
+    values |= {"cycles": n, "elements": sc.bristle.elements}
     return PartResult("fe-paper", values=values, figures=figs, lines=tuple(lines))
 
 

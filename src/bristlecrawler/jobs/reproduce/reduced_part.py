@@ -57,8 +57,9 @@ def _from_fe(ctx: Context) -> dict | None:
     """F_p/k, F_p and k that the FE run's own advance and work give, or None without it."""
     from bristlecrawler.errors import InputError
     from bristlecrawler.reduced import calibrate
+    from bristlecrawler.reduced.metrics import NET_ADVANCE_MM, WORK_MJ
 
-    advance, work = ctx.value("fe-paper", "net_advance_mm"), ctx.value("fe-paper", "work_mJ")
+    advance, work = ctx.value("fe-paper", NET_ADVANCE_MM), ctx.value("fe-paper", WORK_MJ)
     cycles = ctx.value("fe-paper", "cycles")
     if advance is None or work is None:
         return None
