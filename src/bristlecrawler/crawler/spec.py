@@ -411,10 +411,10 @@ class CrawlerSpec:
             if not peak < room:
                 raise InputError(
                     f"actuation: a peak shortening of {peak:g} mm (actuation.s_max or the "
-                    f"history) brings the clamps of bristles {i} and {i + 1} "
-                    f"{gap - peak:g} mm apart; the bristles overlap unless that exceeds "
-                    f"their reach along the body and clamps, {gap - room:.3g} mm (bristle "
-                    "length * sin(alpha) + thickness_clamp)"
+                    f"history) brings bristles {i} and {i + 1} into each other: their "
+                    f"clamps come {gap - peak:g} mm apart, and they overlap unless that "
+                    f"exceeds their reach along the body and clamps, {gap - room:.3g} mm "
+                    "(bristle length * sin(alpha) + thickness_clamp)"
                 )
 
     def positions(self) -> np.ndarray:
