@@ -101,3 +101,17 @@ def test_design_metrics_hold_arrays_over_a_chunk():
     )
     np.testing.assert_array_equal(m.advance_per_cycle, [1.0, -0.5])
     np.testing.assert_array_equal(m.cost_of_transport, [2.0, np.nan])
+
+
+def test_a_null_in_a_summary_file_reads_as_nan():
+    """JSON writes NaN as null (strict JSON): reading a run whose advance is NaN back
+    gives NaN, not an error."""
+    import json
+    import math
+
+    from bristlecrawler.reduced.metrics import RunMetrics
+
+    text = '{"net_advance_mm": null, "advance_per_cycle_mm": [1.5, null], "work_mJ": 2}'
+    m = RunMetrics.from_dict(json.loads(text))
+    assert math.isnan(m.net_advance) and math.isnan(m.advance_per_cycle[1])
+    assert (m.advance_per_cycle[0], m.work) == (1.5, 2.0)

@@ -196,8 +196,10 @@ class CrawlerHistory:
         return crawler_dataset(self, attrs)
 
     def summary(self) -> dict:
-        """Summary numbers of the run, units in the key names (the CLI's summary.json)."""
-        adv = self.advance_per_cycle()
+        """Summary numbers of the run, units in the key names (the CLI's summary.json);
+        the advance and the work are the run's :class:`RunMetrics`."""
+        from bristlecrawler.crawler.metrics import run_metrics
+
         work = self.connector_work
         b = self.cycle_bounds()
         st = self.stats
@@ -211,9 +213,7 @@ class CrawlerHistory:
         return {
             "scenario": self.name,
             "bristles": int(self.tip_position.shape[1]),
-            "net_advance_mm": self.net_advance,
-            "advance_per_cycle_mm": adv.tolist(),
-            "work_mJ": float(work[-1]),
+            **run_metrics(self).to_dict(),
             "work_per_cycle_mJ": np.diff(work[b]).tolist(),
             "mean_abs_connector_force_N": float(
                 np.trapezoid(np.abs(self.connector_force), self.t) / span

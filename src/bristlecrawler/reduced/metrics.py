@@ -52,12 +52,17 @@ class RunMetrics:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunMetrics:
-        """The metrics back from :meth:`to_dict`'s keys (other keys are ignored)."""
+        """The metrics back from :meth:`to_dict`'s keys (other keys are ignored); a null
+        (how a JSON file writes NaN) reads as NaN."""
         return cls(
-            float(data[NET_ADVANCE_MM]),
-            tuple(float(a) for a in data[ADVANCE_PER_CYCLE_MM]),
-            float(data[WORK_MJ]),
+            _number(data[NET_ADVANCE_MM]),
+            tuple(_number(a) for a in data[ADVANCE_PER_CYCLE_MM]),
+            _number(data[WORK_MJ]),
         )
+
+
+def _number(value) -> float:
+    return math.nan if value is None else float(value)
 
 
 #: DesignMetrics field -> (JSON key, unit, description), in the order of the outputs.
