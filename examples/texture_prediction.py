@@ -94,21 +94,27 @@ def evaluate(overrides, fe=None) -> dict:
     summary, _ = cached_drag(sc, prediction_drag_test(spec))
     models = predict_models(spec, summary, cycles=2)
     fe_adv, fe_work = fe if fe is not None else fe_run(sc)
-    pitch = summary["texture"]["pitch_mm"]
+    return row_of(design_name(overrides), summary.texture, models, fe_adv, fe_work)
+
+
+def row_of(name, law, models, fe_adv, fe_work) -> dict:
+    """A design's row from its texture ``law``, the reduced ``models``' metrics and the
+    FE crawler's advance per cycle (mm) and work (mJ)."""
+    pitch = law.pitch_mm
     row = {
-        "design": design_name(overrides),
+        "design": name,
         "pitch_mm": pitch,
         "fe_advance_per_cycle_mm": list(fe_adv),
         "fe_steady_mm": fe_adv[-1],
-        "k_N_per_mm": summary["texture"]["k_N_per_mm"],
+        "k_N_per_mm": law.k_N_per_mm,
     }
     for name, m in models.items():
-        steady = m.advance_per_cycle_mm[-1]
+        steady = m.advance_per_cycle[-1]
         row[f"{name}_steady_mm"] = steady
-        row[f"{name}_advance_per_cycle_mm"] = list(m.advance_per_cycle_mm)
-        row[f"{name}_work_mJ"] = m.work_mJ
+        row[f"{name}_advance_per_cycle_mm"] = list(m.advance_per_cycle)
+        row[f"{name}_work_mJ"] = m.work
         row[f"{name}_hit"] = abs(steady - fe_adv[-1]) <= 0.5 * pitch
-        row[f"{name}_work_error"] = m.work_mJ / fe_work - 1.0
+        row[f"{name}_work_error"] = m.work / fe_work - 1.0
     row["fe_work_mJ"] = fe_work
     return row
 
@@ -143,10 +149,21 @@ def main(argv=None) -> list[dict]:
     p.add_argument(
         "--table-only", action="store_true", help="the table of the designs in --out, run none"
     )
+    p.add_argument(
+        "--only",
+        type=lambda s: [int(x) for x in s.split(",")],
+        help="run only these designs, by their place in the list from 0 (e.g. 0,5,7): "
+        "to share the grid out between processes, each with its own --out",
+    )
     args = p.parse_args(argv)
     if args.grid and not args.fe:
         p.error("--grid needs --fe (the grid's designs have no stored FE results)")
     designs = grid() if args.grid else list(FE_MEASURED)
+    if args.only is not None:
+        bad = [i for i in args.only if not 0 <= i < len(designs)]
+        if bad:
+            p.error(f"--only: no design {bad[0]} (there are {len(designs)}, from 0)")
+        designs = [designs[i] for i in args.only]
     done = {}
     if args.out is not None and args.out.is_file():
         for line in args.out.read_text().splitlines():
