@@ -194,7 +194,9 @@ class FaceCornerContact:
     @staticmethod
     def params(model_X, faces, offsets, substrate, law: CoulombLaw) -> FaceParams:
         """Parameters for the outlines ``faces`` of a structure with reference positions
-        ``model_X``; ``offsets`` (F, n, 2) mm per outline point."""
+        ``model_X``; ``offsets`` (F, n, 2) mm per outline point. ``substrate`` must have
+        convex corners (:func:`convex_corners`): a term without any would never act, so
+        the crawler and the drag test leave it out on such a substrate instead."""
         Xn = np.asarray(model_X, float)[:, :2]
         idx = np.asarray(faces, int)
         off = np.asarray(offsets, float)

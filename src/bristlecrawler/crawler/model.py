@@ -38,7 +38,8 @@ class CrawlerModel:
         clamps: clamp node of each bristle.
         bristles: node chain of each bristle, clamp to tip.
         contact: the point-contact term (:class:`contact.SubstrateContact`).
-        corners: the corner-to-face term, or None.
+        corners: the corner-to-face term, or None (corner contact off, or a substrate
+            without convex corners).
         tip_points: indices among the contact term's points that belong to each tip.
         subtrees: for each body segment, the nodes beyond it (those its actuator pushes).
         lines: line-cell connectivity of the drawing, (C, 2).

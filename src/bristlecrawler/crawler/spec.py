@@ -157,7 +157,8 @@ class Contact:
         surface: contact points on both faces of the beam (h/2 from the axis, turning with
             the section) rather than on its axis.
         discs: with ``surface`` off, each axis point is a disc of radius h/2.
-        corners: the substrate's convex corners against both faces of every element.
+        corners: the substrate's convex corners against both faces of every element,
+            where it has any (a plane has none, and gets no corner term).
         penalty_load: load (N) at which penetration stays below 1e-3 mm and the stick drift
             below ``stick_drift``; None: the weight on one bristle.
         stick_drift: elastic tangential displacement in stick at the friction limit of the

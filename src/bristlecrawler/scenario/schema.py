@@ -212,9 +212,9 @@ class ContactConfig(_Section):
     )
     corners: bool = Field(
         _CONTACT.corners,
-        description="corner-to-face contact: the substrate's convex corners (land edges) "
-        "against both faces of every bristle element, so a sharp corner cannot pass "
-        "between contact points",
+        description="corner-to-face contact: the substrate's convex corners (land edges), "
+        "where it has any (a flat substrate has none), against both faces of every bristle "
+        "element, so a sharp corner cannot pass between contact points",
     )
     penalty_load: float | None = Field(
         _CONTACT.penalty_load,
