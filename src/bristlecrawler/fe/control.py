@@ -96,3 +96,43 @@ class StepControl:
 
 #: The defaults, as a default argument.
 DEFAULT_CONTROL = StepControl()
+
+
+class Attempt(NamedTuple):
+    """One try of :func:`march`: the step ``h`` tried, what ``attempt`` returned for it
+    (``new`` and its ``info``) and the rule's :class:`Outcome`."""
+
+    h: float
+    new: Any
+    info: Any
+    outcome: Outcome
+
+
+def march(attempt, state, t, t_end, dt, dt_min, dt_max, control=None, *, time_of=None, more=None):
+    """The host loop of every adaptive stepper (time steps of :func:`fe.integrate` and
+    :func:`fe.make_host_driver`, load increments of :func:`fe.solve_static`, the contact
+    verification's stepper): from ``state`` at ``t`` towards ``t_end``, try a step of
+    ``min(dt, t_end - t)``, let :meth:`StepControl.decide` judge it, and go on from the
+    new state where it is accepted. The compiled drivers run the same rule in a
+    ``lax.while_loop`` of their own.
+
+    ``attempt(state, h) -> (new, info, status, ratio)``: the step's result, its
+    :class:`~bristlecrawler.fe.status.StepInfo` (or anything with ``iterations``), its
+    status after the caller's own checks (an int) and its energy check's ratio (None:
+    none). ``time_of(new)``: the time an accepted ``new`` is at (default ``t + h``).
+    ``more()``: whether to go on (default: until ``t_end``). Yields one :class:`Attempt`
+    per try and stops after the end, or after a try whose outcome ends the run
+    (``outcome.failed``)."""
+    control = DEFAULT_CONTROL if control is None else control
+    eps = 1e-12 * max(1.0, abs(t_end))
+    while t < t_end - eps and (more is None or more()):
+        h = min(dt, t_end - t)
+        new, info, status, ratio = attempt(state, h)
+        out = control.decide(status, int(info.iterations), h, dt, dt_min, dt_max, ratio)
+        dt = out.dt
+        yield Attempt(h, new, info, out)
+        if out.failed:
+            return
+        if out.good:
+            state = new
+            t = time_of(new) if time_of is not None else t + h

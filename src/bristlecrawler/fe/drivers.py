@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler._pytree import pytree
-from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
+from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl, march
 from bristlecrawler.fe.dynamics import (
     DynState,
     Integrator,
@@ -313,7 +313,6 @@ def make_host_driver(
 
     def run(carry, params, t_end, dt_min, dt_max):
         t_end, dt_min, dt_max = float(t_end), float(dt_min), float(dt_max)
-        eps = 1e-12 * max(1.0, abs(t_end))
         rows, failed = [], False
         state, dt = carry.state, float(carry.dt)
         accepted, rejected, iterations = (
@@ -321,23 +320,40 @@ def make_host_driver(
         )
         info, cause = carry.info, carry.cause
         last = obs(state, params) if accept is not None else None
-        while float(state.t) < t_end - eps and len(rows) < capacity and not failed:
-            h = min(dt, t_end - float(state.t))
+
+        checked = {}  # the observed row of the last try, where the check made one
+
+        def attempt(state, h):
             new, info = step(state, params, jnp.asarray(h))
-            status, its = int(info.status), int(info.iterations)
-            rec, ratio = None, None
+            status, ratio = int(info.status), None
+            checked.clear()
             if accept is not None and status == SUCCESS:
-                rec = obs(new, params)
-                ratio = float(accept(last, rec))
-            out = control.decide(status, its, h, dt, dt_min, dt_max, ratio)
-            iterations += its
+                checked["row"] = obs(new, params)
+                ratio = float(accept(last, checked["row"]))
+            return new, info, status, ratio
+
+        tries = march(
+            attempt,
+            state,
+            float(state.t),
+            t_end,
+            dt,
+            dt_min,
+            dt_max,
+            control,
+            time_of=lambda new: float(new.t),
+            more=lambda: len(rows) < capacity,
+        )
+        for a in tries:
+            out, info = a.outcome, a.info
+            iterations += int(info.iterations)
             cause, dt, failed = out.cause, out.dt, out.failed
-            if out.status != status:
+            if out.status != int(info.status):
                 info = dataclasses.replace(info, status=jnp.asarray(out.status))
             if out.good:
-                state = new
+                state = a.new
                 accepted += 1
-                rec = obs(new, params) if rec is None else rec
+                rec = checked["row"] if checked else obs(state, params)
                 rows.append(rec)
                 last = rec
             else:

@@ -33,7 +33,7 @@ import numpy as np
 from bristlecrawler._pytree import pytree
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
-from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
+from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl, march
 from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions, newton_parts
 from bristlecrawler.fe.options import compose, renamed
 from bristlecrawler.fe.programs import stored
@@ -418,27 +418,38 @@ def integrate(
     params = model.params
     times, observed, infos = [], [], []
     rejected = 0
-    h = dt
-    t = float(state.t)
-    while t < t_end - 1e-12 * max(1.0, abs(t_end)):
-        h_try = min(h, t_end - t)
-        new, info = step(state, params, jnp.asarray(h_try))
+
+    def attempt(state, h):
+        new, info = step(state, params, jnp.asarray(h))
         infos.append(info)
-        out = control.decide(int(info.status), int(info.iterations), h_try, h, dt_min, dt_max)
-        h = out.dt
+        return new, info, int(info.status), None
+
+    tries = march(
+        attempt,
+        state,
+        float(state.t),
+        t_end,
+        dt,
+        dt_min,
+        dt_max,
+        control,
+        time_of=lambda s: float(s.t),
+    )
+    for a in tries:
+        out = a.outcome
         if out.good:
-            state, t = new, float(new.t)
-            times.append(t)
+            state = a.new
+            times.append(float(state.t))
             if observe is not None:
                 observed.append(observe(state))
             continue
         rejected += 1
         if out.failed:
             where = f"dynamics, step {len(times) + 1}"
-            msg = message(info, where)
+            msg = message(a.info, where)
             if out.status == STEP_TOO_SMALL:
                 msg += f"; dt cut below dt_min = {dt_min:g} s"
-                infos[-1] = dataclasses.replace(info, status=jnp.asarray(STEP_TOO_SMALL))
+                infos[-1] = dataclasses.replace(a.info, status=jnp.asarray(STEP_TOO_SMALL))
             if throw:
                 raise SolverError(msg)
             return DynResult(state, np.asarray(times), observed, infos, False, msg, rejected)

@@ -18,7 +18,7 @@ import numpy as np
 
 from bristlecrawler._pytree import pytree
 from bristlecrawler.fe import assembly, banded
-from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl
+from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl, march
 from bristlecrawler.fe.newton import NewtonOptions, newton
 from bristlecrawler.fe.options import compose
 from bristlecrawler.fe.programs import stored
@@ -168,26 +168,34 @@ def solve_static(
     lam = float(state.lam) if float(state.t) == float(t) else 0.0
     dlam = min(options.max_increment, 1.0 / max(options.increments, 1))
     infos: list = []
-    q, hist = state.q, state.history
-    while lam < 1.0:
-        target = min(1.0, lam + dlam)
-        q1, u1, info = solver(q, params, jnp.asarray(float(t)), jnp.asarray(target), hist)
-        u_prev = assembly.expand(q, t, lam, params, topo)
+    tt = jnp.asarray(float(t))
+
+    def attempt(at, h):
+        # at: the load factor, unknowns and committed histories of the last increment
+        lam0, q0, h0 = at
+        target = 1.0 if h >= 1.0 - lam0 else lam0 + h
+        q1, u1, info = solver(q0, params, tt, jnp.asarray(target), h0)
+        u_prev = assembly.expand(q0, t, lam0, params, topo)
         too_far = float(jnp.max(jnp.abs(u1[:, 2] - u_prev[:, 2]))) > options.max_rotation
         status = int(info.status)
         if too_far and status == SUCCESS:
             status = ROTATION_LIMIT
-        out = options.control.decide(
-            status, int(info.iterations), dlam, dlam, options.min_increment, options.max_increment
-        )
-        dlam = out.dt
+        if status != SUCCESS:  # refused: nothing to commit
+            return at, info, status, None
+        h1 = commit_all(model.terms, u1, jnp.zeros_like(u1), t, h0, params)
+        return (target, q1, h1), info, status, None
+
+    at = (lam, state.q, state.history)
+    lo, hi = options.min_increment, options.max_increment
+    for a in march(attempt, at, lam, 1.0, dlam, lo, hi, options.control, time_of=lambda n: n[0]):
+        out, info = a.outcome, a.info
         if out.status != int(info.status):
             info = dataclasses.replace(info, status=jnp.asarray(out.status))
         infos.append(info)
         if out.good:
-            lam, q = target, q1
-            hist = commit_all(model.terms, u1, jnp.zeros_like(u1), t, hist, params)
+            at = a.new
         elif out.failed:
+            lam, q, hist = at
             where = f"static solve, increment {len(infos)}"
             msg = message(info, where)
             if out.status == STEP_TOO_SMALL:
@@ -200,6 +208,7 @@ def solve_static(
             return StaticResult(
                 StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(lam)), infos, False, msg
             )
+    _, q, hist = at
     u = assembly.expand(q, t, 1.0, params, topo)
     final = StaticState(q, u, hist, jnp.asarray(float(t)), jnp.asarray(1.0))
     return StaticResult(final, infos, True, "converged")

@@ -26,6 +26,7 @@ import numpy as np
 from bristlecrawler import fe
 from bristlecrawler.contact import SLIP, STICK, CoulombLaw, Flat
 from bristlecrawler.contact.term import SubstrateContact
+from bristlecrawler.fe.control import march
 from bristlecrawler.fe.motion import Ramp
 from bristlecrawler.verification.contact_refs import (
     DEFAULT_OSCILLATOR,
@@ -131,27 +132,32 @@ def run_resolving(
     step = fe.make_step(model.topology, model.terms, integrator)
     params = model.params
     times, observed, rejected = [], [], 0
-    h, t = dt, float(state.t)
-    while t < t_end - 1e-12 * max(1.0, abs(t_end)):
-        h_try = min(h, t_end - t)
-        new, info = step(state, params, jnp.asarray(h_try))
+
+    def attempt(state, h):
+        new, info = step(state, params, jnp.asarray(h))
         status = int(info.status)
-        if status == SUCCESS and h_try > dt_floor:
+        if status == SUCCESS and h > dt_floor:
             if float(_slip_dp(state.history[0], new.history[0])) > max_dp:
                 status = STEP_ERROR  # converged, but too long for the slip's accuracy
-        out = control.decide(status, int(info.iterations), h_try, h, dt_min, dt)
-        h = out.dt
+        return new, info, status, None
+
+    t0 = float(state.t)
+    for a in march(attempt, state, t0, t_end, dt, dt_min, dt, control, time_of=_time):
+        out = a.outcome
         if out.good:
-            state, t = new, float(new.t)
-            times.append(t)
-            observed.append(observe(state))
+            times.append(float(a.new.t))
+            observed.append(observe(a.new))
             continue
         rejected += 1
         if out.failed:
-            msg = message(info, f"dynamics, step {len(times) + 1}")
+            msg = message(a.info, f"dynamics, step {len(times) + 1}")
             cut = out.status == STEP_TOO_SMALL
             raise SolverError(msg + (f"; dt cut below dt_min = {dt_min:g} s" if cut else ""))
     return ResolvedRun(np.asarray(times), jax.device_get(observed), rejected)
+
+
+def _time(state) -> float:
+    return float(state.t)
 
 
 def slip_onset(load, f_t, p_n, states, mu):
