@@ -186,8 +186,8 @@ def test_runs_out_of_their_normal_range_are_flagged():
     tolerance of 1e-8; a friction-free run (51 %) or a loose tolerance is flagged."""
     sc = load_scenario("paper")
     assert quality_warnings(0.086, sc) == []
-    (w,) = quality_warnings(0.51, apply_overrides(sc, ["substrate.mu=0"]))
-    assert "51%" in w and "substrate.mu = 0" in w
+    (w,) = quality_warnings(0.51, apply_overrides(sc, ["contact.mu=0"]))
+    assert "51%" in w and "contact.mu = 0" in w
     (w,) = quality_warnings(0.05, apply_overrides(sc, ["solver.tolerance=1e-4"]))
     assert "solver.tolerance = 0.0001" in w
     assert quality_warnings(float("nan"), sc)  # a balance that could not be computed

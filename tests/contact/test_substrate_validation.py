@@ -5,6 +5,7 @@ import pytest
 
 from bristlecrawler.contact import CoulombLaw, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
+from bristlecrawler.scenario import scenario_from_dict
 from bristlecrawler.scenario.substrate import GroovesConfig, parse_substrate
 
 
@@ -64,13 +65,12 @@ def test_negative_friction_coefficient_refused():
     _refused("mu", CoulombLaw, mu=-0.1, k_n=1.0, k_t=1.0)
     _refused("k_t", CoulombLaw, mu=0.1, k_n=1.0, k_t=0.0)
     _refused("mu", CoulombLaw.for_reference_load, mu=-1.0)
-    _refused("mu", parse_substrate, {"kind": "flat", "mu": -0.2})
+    _refused("contact.mu", scenario_from_dict, {"contact": {"mu": -0.2}})
 
 
 def test_toml_table_builds_and_refuses():
     cfg = parse_substrate({"kind": "grooves", "width": 1.0, "depth": 0.25, "pitch": 2.0})
     assert isinstance(cfg, GroovesConfig)
-    assert cfg.mu == 0.65
     g = cfg.build()
     assert float(g.width) == 1.0 and float(g.pitch) == 2.0
     assert "mm" in GroovesConfig.model_fields["width"].description

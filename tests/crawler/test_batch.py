@@ -182,7 +182,7 @@ def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
         if k.startswith(("actuation", "solver"))
     }
     short = short | numbers | {"bristle.elements": 4}
-    designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"substrate.mu": 0.3}]
+    designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"contact.mu": 0.3}]
     res = fe_batch_task(base_config, [short | d for d in designs], 3)
     np.testing.assert_array_equal(
         res["status"], [DesignStatus.DONE, DesignStatus.FAILED, DesignStatus.DONE]

@@ -78,7 +78,7 @@ def test_stick_drift_sets_the_stick_penalty(drift):
     mass = b.mass + 2 * br.density * br.width * br.length * 0.5 * (
         br.thickness_clamp + br.thickness_tip
     )
-    limit = sc.substrate.mu * mass * sc.gravity / 2
+    limit = sc.contact.mu * mass * sc.gravity / 2
     for p in cm.model.params.extra:
         np.testing.assert_allclose(limit / float(p.law.k_t), drift, rtol=1e-12)
         np.testing.assert_allclose(mass * sc.gravity / 2 / float(p.law.k_n), 1e-3, rtol=1e-12)

@@ -75,7 +75,7 @@ def test_forces_are_the_friction_scale_and_dissipation_never_decreases(run):
     sc, h = run
     weight = sc.body.mass * sc.gravity
     # Sliding at both tips is resisted by at most mu times the weight.
-    assert np.max(np.abs(h.connector_force)) < 1.5 * sc.substrate.mu * weight
+    assert np.max(np.abs(h.connector_force)) < 1.5 * sc.contact.mu * weight
     friction = h.energies["friction"]
     # Exact frictional dissipation (return mapping): never decreases.
     assert np.all(np.diff(friction) >= -1e-12) and friction[-1] >= 0.0

@@ -24,7 +24,8 @@ from .kinematic import kinematic_history
         (["paper", "--set", "actuation.s_max=100"], "s_max"),
         (["paper", "--set", "bristle.youngs_modulus=0"], "youngs_modulus"),
         (["paper", "--set", "bristle.thickness_tip=-1"], "thickness_tip"),
-        (["paper", "--set", "substrate.mu=-0.1"], "(with --set): substrate.mu:"),
+        (["paper", "--set", "contact.mu=-0.1"], "(with --set): contact.mu:"),
+        (["paper", "--set", "substrate.mu=-0.1"], "(with --set): contact.mu:"),
         (["paper", "--set", "substrate.kind=foo"], "substrate.kind: 'foo' is not one of"),
         (
             ["paper", "--set", "bristle.elements=true"],
@@ -109,6 +110,30 @@ def test_run_writes_every_output(run_cli, tmp_path, monkeypatch):
 
     frame = meshio.read(sorted((out / "vtk").glob("*.vtu"))[0])
     np.testing.assert_array_equal(frame.point_data["thickness"], h.node_thickness)
+
+
+def test_the_old_key_substrate_mu_in_set_runs_contact_mu(run_cli, tmp_path, monkeypatch):
+    """``--set substrate.mu=...`` runs the spec of ``--set contact.mu=...``; the run folder
+    writes the new key and the warning is one line."""
+    seen = []
+
+    def fake(spec, progress=None):
+        seen.append(spec)
+        return kinematic_history(cycles=1, samples=40)
+
+    monkeypatch.setattr("bristlecrawler.jobs.simulate.solve", fake)
+    quiet = ["--cycles", "1", "--no-figures", "--no-vtk", "--json"]
+    for key, out in (("contact.mu", tmp_path / "new"), ("substrate.mu", tmp_path / "old")):
+        code, _, err = run_cli(
+            ["simulate", "paper", "--set", f"{key}=0.3", *quiet, "--out", str(out)]
+        )
+        assert code == 0, err
+    assert err == "warning: substrate.mu is deprecated: use contact.mu\n"
+    assert seen[0] == seen[1] and seen[1].contact.mu == 0.3
+    for out in (tmp_path / "new", tmp_path / "old"):
+        cfg = json.loads((out / "config.json").read_text())
+        assert cfg["contact"]["mu"] == 0.3 and "mu" not in cfg["substrate"]
+        assert "\n[contact]\nmu = 0.3\n" in (out / "scenario.toml").read_text()
 
 
 def test_actuator_option_selects_the_sma_history(run_cli, tmp_path, monkeypatch):

@@ -22,7 +22,7 @@ from bristlecrawler.scenario.load import apply_overrides, load_scenario
 @functools.cache
 def _advance(drift: float) -> float:
     data = load_scenario("paper").model_dump()
-    data["substrate"] = {"kind": "flat", "mu": 0.65}
+    data["substrate"] = {"kind": "flat"}
     sc = apply_overrides(
         scenario_from_dict(data),
         [

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.scenario import Scenario, load_scenario
+from bristlecrawler.scenario import Scenario, load_scenario, scenario_from_dict
 from bristlecrawler.scenario.keys import NA, differs, scenario_keys
 
 
@@ -52,7 +52,7 @@ def test_another_substrate_kind_replaces_the_base_table(tmp_path):
     f = tmp_path / "teeth.toml"
     f.write_text('base = "paper"\n[substrate]\nkind = "sawtooth"\npitch = 2.0\nheight = 0.3\n')
     sc = load_scenario(f)
-    assert sc.substrate.kind == "sawtooth" and sc.substrate.mu == 0.65
+    assert sc.substrate.kind == "sawtooth" and sc.contact.mu == 0.65
 
 
 def test_a_base_can_be_another_file_relative_to_the_first(tmp_path):
@@ -134,7 +134,7 @@ def test_set_substrate_kind_starts_that_table_afresh():
         paper, ["substrate.kind=sawtooth", "substrate.pitch=2.5", "substrate.height=0.3"]
     )
     assert (sc.substrate.kind, sc.substrate.pitch, sc.substrate.height) == ("sawtooth", 2.5, 0.3)
-    assert sc.substrate.mu == paper.substrate.mu
+    assert sc.contact.mu == paper.contact.mu
     with pytest.raises(InputError, match=r"substrate\.pitch"):
         apply_overrides(paper, ["substrate.kind=sawtooth", "substrate.height=0.3"])
     with pytest.raises(InputError, match="widht"):
@@ -157,3 +157,66 @@ def test_a_file_without_base_is_told_which_paper_values_it_misses(tmp_path):
     assert "substrate.fillet_top" not in {
         k.key for k in defaults_unlike_paper(scenario_document(sharp))
     }
+
+
+def test_the_friction_coefficient_is_a_contact_key(run_cli):
+    code, out, _ = run_cli(["scenario", "keys", "--json"])
+    keys = {r["key"] for r in json.loads(out)}
+    assert code == 0 and "contact.mu" in keys and "substrate.mu" not in keys
+    code, out, _ = run_cli(["scenario", "show", "paper", "--resolved"])
+    contact = out.split("[contact]\n")[1].split("\n\n")[0]
+    assert code == 0 and "mu = 0.65" in contact.splitlines()
+    with pytest.raises(InputError, match=r"contact\.mu: must be <= 10, got 11"):
+        scenario_from_dict({"contact": {"mu": 11.0}})
+
+
+def test_the_old_key_substrate_mu_in_a_file_reads_as_contact_mu(tmp_path, run_cli):
+    """``[substrate] mu`` gives the spec of ``[contact] mu``, with one warning line naming
+    the new key; in a file it overrides its base's ``contact.mu``."""
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import DeprecatedKeyWarning
+
+    (tmp_path / "new.toml").write_text('base = "paper"\nname = "s"\n[contact]\nmu = 0.3\n')
+    old = tmp_path / "old.toml"
+    old.write_text('base = "paper"\nname = "s"\n[substrate]\nmu = 0.3\n')
+    with pytest.warns(
+        DeprecatedKeyWarning, match=r"^substrate\.mu is deprecated: use contact\.mu$"
+    ):
+        sc = load_scenario(old)
+    assert sc.contact.mu == 0.3
+    assert to_spec(sc) == to_spec(load_scenario(tmp_path / "new.toml"))
+    # the old key over a base's new one; another substrate kind over a base's old one
+    (tmp_path / "over.toml").write_text('base = "new.toml"\n[substrate]\nmu = 0.4\n')
+    (tmp_path / "teeth.toml").write_text(
+        'base = "old.toml"\n[substrate]\nkind = "sawtooth"\npitch = 2.0\nheight = 0.3\n'
+    )
+    with pytest.warns(DeprecatedKeyWarning):
+        assert load_scenario(tmp_path / "over.toml").contact.mu == 0.4
+        assert load_scenario(tmp_path / "teeth.toml").contact.mu == 0.3
+    code, out, err = run_cli(["scenario", "show", str(old), "--resolved"])
+    assert code == 0 and "mu = 0.3" in out.split("[contact]\n")[1].splitlines()
+    assert "mu" not in out.split("[substrate]\n")[1].split("\n\n")[0]
+    assert err == "warning: substrate.mu is deprecated: use contact.mu\n"
+    both = tmp_path / "both.toml"
+    both.write_text("[substrate]\nmu = 0.3\n[contact]\nmu = 0.4\n")
+    with pytest.raises(InputError, match=r"give contact\.mu, not both it and substrate\.mu"):
+        with pytest.warns(DeprecatedKeyWarning):
+            load_scenario(both)
+
+
+def test_the_old_key_substrate_mu_in_set_reads_as_contact_mu():
+    from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.load import DeprecatedKeyWarning, apply_overrides, apply_values
+
+    paper = load_scenario("paper")
+    new = to_spec(apply_overrides(paper, ["contact.mu=0.3"]))
+    with pytest.warns(
+        DeprecatedKeyWarning, match=r"^substrate\.mu is deprecated: use contact\.mu$"
+    ):
+        assert to_spec(apply_overrides(paper, ["substrate.mu=0.3"])) == new
+    with pytest.warns(DeprecatedKeyWarning):
+        assert to_spec(apply_values(paper, {"substrate.mu": 0.3})) == new
+        assert scenario_from_dict({"substrate": {"kind": "flat", "mu": 0.3}}).contact.mu == 0.3
+    with pytest.raises(InputError, match=r"give contact\.mu, not both it and substrate\.mu"):
+        with pytest.warns(DeprecatedKeyWarning):
+            apply_overrides(paper, ["substrate.mu=0.3", "contact.mu=0.4"])

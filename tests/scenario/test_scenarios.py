@@ -15,7 +15,7 @@ def test_shipped_scenarios_hold_the_paper_values():
     assert (p.body.length, p.body.mass) == (100.0, pytest.approx(5.5e-5))
     assert (p.bristle.thickness_clamp, p.bristle.thickness_tip, p.bristle.length) == (3, 0.5, 5)
     assert p.bristle.youngs_modulus == 1.1 and p.bristle.density == pytest.approx(1.3e-9)
-    assert (p.substrate.width, p.substrate.depth, p.substrate.mu) == (1.0, 0.25, 0.65)
+    assert (p.substrate.width, p.substrate.depth, p.contact.mu) == (1.0, 0.25, 0.65)
     assert (p.actuation.s_max, p.actuation.period, p.actuation.cycles) == (20.0, 20.0, 5)
     assert p.damping.ratio == 0.15 and p.damping.kind == "mass"
     v = load_scenario("paper-vertical")

@@ -88,8 +88,8 @@ def test_the_shipped_studies_are_valid():
         ('"bristle.alpha_deg" = []', "empty list"),
         ('"bristle.alpha_deg" = { linspace = [0.0, 30.0, 0] }', "empty range"),
         ('"bristle.alpha_deg" = { linspace = [10.0, 10.0, 3] }', "empty range"),
-        ('"substrate.mu" = { random = [0.9, 0.3] }', "empty or inverted range"),
-        ('"substrate.mu" = { logspace = [0.0, 1.0, 3] }', "positive bounds"),
+        ('"contact.mu" = { random = [0.9, 0.3] }', "empty or inverted range"),
+        ('"contact.mu" = { logspace = [0.0, 1.0, 3] }', "positive bounds"),
         (
             '"bristle.alpha_deg" = [30.0, 85.0]',
             "design 1 (bristle.alpha_deg=85): bristle.alpha_deg: must be < 80, got 85",
@@ -201,3 +201,50 @@ def test_a_bad_batch_is_one_line_exit_2_and_writes_nothing(
     assert err.startswith("error: ") and err.count("\n") == 1
     assert words in err
     assert not out.exists()
+
+
+FE_MU = """
+name = "mu"
+model = "fe"
+base = "paper"
+[set]
+{set}
+[axes]
+"bristle.alpha_deg" = [30.0, 45.0]
+{axes}
+"""
+
+
+def test_the_old_key_substrate_mu_in_a_study_reads_as_contact_mu(tmp_path):
+    """A study's ``substrate.mu`` ([set] or [axes]) is ``contact.mu``, with a warning line:
+    the same designs and resolved study (fingerprint included); a design's overrides with
+    the old key give the same scenario."""
+    from bristlecrawler.scenario.load import DeprecatedKeyWarning
+    from bristlecrawler.studies.designs import with_overrides
+
+    def both(set_text, axes_text):
+        new = plan(_study(tmp_path, FE_MU.format(set=set_text, axes=axes_text), "new.toml"))
+        old_text = FE_MU.format(set=set_text, axes=axes_text).replace("contact.mu", "substrate.mu")
+        with pytest.warns(DeprecatedKeyWarning, match=r"^substrate\.mu is deprecated: use contact"):
+            old = plan(_study(tmp_path, old_text, "old.toml"))
+        assert old.resolved == new.resolved
+        return old
+
+    old = both("", '"contact.mu" = [0.3, 0.6]')
+    assert old.designs.keys == ("bristle.alpha_deg", "contact.mu")
+    assert old.designs.overrides(3) == {"bristle.alpha_deg": 45.0, "contact.mu": 0.6}
+    old = both('"contact.mu" = 0.5', "")
+    assert old.base.config["contact"]["mu"] == 0.5
+    config = old.base.config
+    with pytest.warns(DeprecatedKeyWarning):
+        assert with_overrides(config, {"substrate.mu": 0.3}) == with_overrides(
+            config, {"contact.mu": 0.3}
+        )
+    text = FE_MU.format(set='"substrate.mu" = 0.5', axes='"contact.mu" = [0.3]')
+    with pytest.raises(InputError, match=r"contact\.mu: both in \[set\] and in \[axes\]"):
+        with pytest.warns(DeprecatedKeyWarning):
+            plan(_study(tmp_path, text))
+    text = FE_MU.format(set="", axes='"substrate.mu" = [0.5]\n"contact.mu" = [0.3]')
+    with pytest.raises(InputError, match=r"\[axes\] give contact\.mu, not both it and substrate"):
+        with pytest.warns(DeprecatedKeyWarning):
+            plan(_study(tmp_path, text))

@@ -57,8 +57,8 @@ def quality_warnings(balance: float, sc: Scenario) -> list[str]:
     if not balance <= BALANCE_WARN:
         out.append(
             f"energy balance residual {balance:.0%} of the connector work (normal: below "
-            f"{BALANCE_WARN:.0%}); the gait may not be trustworthy (substrate.mu = "
-            f"{sc.substrate.mu:g}, solver.tolerance = {sc.solver.tolerance:g})"
+            f"{BALANCE_WARN:.0%}); the gait may not be trustworthy (contact.mu = "
+            f"{sc.contact.mu:g}, solver.tolerance = {sc.solver.tolerance:g})"
         )
     if sc.solver.tolerance > TOLERANCE_WARN:
         out.append(

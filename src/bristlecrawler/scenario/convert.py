@@ -46,12 +46,11 @@ def to_spec(sc: Scenario) -> CrawlerSpec:
     br = sc.bristle
     template = Bristle(**br.model_dump(exclude={"count"}))
     a = sc.actuation
-    sub = sc.substrate
     spec = CrawlerSpec(
         body=Body(**sc.body.model_dump()),
         bristles=uniform_bristles(br.count, sc.body.length, template),
-        substrate=sub.build(),
-        contact=Contact(mu=sub.mu, **sc.contact.model_dump()),
+        substrate=sc.substrate.build(),
+        contact=Contact(**sc.contact.model_dump()),
         damping=Damping(**sc.damping.model_dump()),
         actuation=Actuation(
             s_max=a.s_max,

@@ -45,32 +45,58 @@ def shipped_scenario_text(name: str) -> str:
     return resource.read_text(encoding="utf-8")
 
 
-#: Keys of a scenario file that were renamed: still read, with a warning line.
-RENAMED_KEYS = {"contact.max_penetration": "contact.penetration_limit"}
+#: Keys of a scenario file that were renamed or moved to another table: still read
+#: (in a file, ``--set``, a study's keys), with a warning line naming the new key.
+RENAMED_KEYS = {
+    "contact.max_penetration": "contact.penetration_limit",
+    "substrate.mu": "contact.mu",
+}
 
 
 class DeprecatedKeyWarning(FutureWarning):
-    """A scenario file or ``--set`` uses the old name of a renamed key."""
+    """A scenario file, ``--set`` or a study uses the old name of a renamed key."""
 
 
-def _renamed_key(old: str) -> str:
-    new = RENAMED_KEYS[old]
-    warnings.warn(f"{old} is deprecated: use {new}", DeprecatedKeyWarning, stacklevel=3)
+def current_key(key: str) -> str:
+    """The dotted ``key`` under its current name: a renamed one (:data:`RENAMED_KEYS`)
+    with a :class:`DeprecatedKeyWarning`, any other as it is."""
+    new = RENAMED_KEYS.get(key)
+    if new is None:
+        return key
+    warnings.warn(f"{key} is deprecated: use {new}", DeprecatedKeyWarning, stacklevel=2)
     return new
 
 
+def current_keys(values: dict[str, Any]) -> dict[str, Any]:
+    """``{dotted key: value}`` with the renamed keys under their new names (a warning for
+    each); InputError if a value is given under both names."""
+    out: dict[str, Any] = {}
+    for key, value in values.items():
+        new = current_key(key)
+        if new in out or (new != key and new in values):
+            raise InputError(f"give {new}, not both it and {key}")
+        out[new] = value
+    return out
+
+
 def _new_names(data: dict[str, Any]) -> dict[str, Any]:
-    """``data`` with the renamed keys under their new names (a warning for each)."""
+    """A scenario document with the renamed keys under their new names, in their new
+    tables (a warning for each)."""
     for old in RENAMED_KEYS:
         section, key = old.split(".")
         table = data.get(section)
-        if isinstance(table, dict) and key in table:
-            new_section, new_key = _renamed_key(old).split(".")
-            if new_key in table:
-                raise InputError(f"{new_section}: give {new_key}, not both it and {key}")
-            table = dict(table)
-            table[new_key] = table.pop(key)
-            data = {**data, section: table}
+        if not (isinstance(table, dict) and key in table):
+            continue
+        new = current_key(old)
+        new_section, new_key = new.split(".")
+        value = table[key]
+        data = {**data, section: {k: v for k, v in table.items() if k != key}}
+        target = data.get(new_section, {})
+        if not isinstance(target, dict):
+            raise InputError(f"{new_section} must be a table, got {target!r}")
+        if new_key in target:
+            raise InputError(f"give {new}, not both it and {old}")
+        data[new_section] = {**target, new_key: value}
     return data
 
 
@@ -141,10 +167,15 @@ def _raw(name_or_path: str, origin: Path | None, depth: int = 0) -> dict[str, An
         data, here = _read_toml(path), path
     else:
         data, here = tomllib.loads(shipped_scenario_text(name_or_path)), None
+    where = here or name_or_path
+    try:
+        # Before merging: a file's old key must override its base's new one.
+        data = _new_names(data)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
     base = data.pop("base", None)
     if base is None:
         return data
-    where = here or name_or_path
     if not isinstance(base, str) or not base:
         raise InputError(f"{where}: base must be a scenario name or a .toml path, got {base!r}")
     merged = _merge(_raw(base, here, depth + 1), data)
@@ -189,15 +220,17 @@ def apply_overrides(sc: Scenario, assignments: list[str]) -> Scenario:
 def apply_values(sc: Scenario, values: dict[str, Any]) -> Scenario:
     """The scenario with ``{"section.key": value}`` set (Python values, e.g. a path as
     it is) and re-validated; an unknown key or a bad value raises a one-line InputError.
-    Setting ``substrate.kind`` to another kind starts that table afresh (its ``mu`` kept),
-    so the new kind's keys follow it."""
+    Setting ``substrate.kind`` to another kind starts that table afresh, so the new kind's
+    keys follow it."""
     data = sc.model_dump()
+    try:
+        values = current_keys(values)
+    except InputError as exc:
+        raise InputError(f"--set: {exc}") from None
     for key, value in values.items():
-        key = _renamed_key(key) if key in RENAMED_KEYS else key
         *path, last = key.split(".")
         if path == ["substrate"] and last == "kind" and value != data["substrate"]["kind"]:
-            # Another kind of texture: none of the old kind's keys apply (its mu does).
-            data["substrate"] = {"kind": value, "mu": data["substrate"]["mu"]}
+            data["substrate"] = {"kind": value}  # none of the old kind's keys apply
             continue
         node = data
         for part in path:

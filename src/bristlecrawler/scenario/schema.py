@@ -193,9 +193,20 @@ class OutputConfig(_Section):
     )
 
 
+#: Largest friction coefficient a scenario may give: far above any measured pair.
+MAX_MU = 10.0
+
+
 class ContactConfig(_Section):
     """Contact of the bristles with the substrate."""
 
+    mu: float = Field(
+        _CONTACT.mu,
+        ge=0.0,
+        le=MAX_MU,
+        allow_inf_nan=False,
+        description="Coulomb friction coefficient bristle/substrate, dimensionless",
+    )
     nodes: Literal["tip", "all"] = Field(
         _CONTACT.nodes, description="contact nodes: the bristle tips only, or every bristle node"
     )
@@ -347,8 +358,8 @@ def check_bristles_clear(sc: Scenario, s_max: float) -> None:
 
 def check_substrate_scale(sub: dict) -> None:
     """Bounds a ``[substrate]`` table's own schema does not state: lengths within
-    +-MAX_LENGTH mm (a phase of 1e308 mm divides to nonsense) and a friction coefficient of
-    at most 10. Numbers only; other values are left to the table's schema."""
+    +-MAX_LENGTH mm (a phase of 1e308 mm divides to nonsense). Numbers only; other values
+    are left to the table's schema."""
 
     def numbers(value):
         if isinstance(value, bool):
@@ -359,11 +370,8 @@ def check_substrate_scale(sub: dict) -> None:
             return [x for v in value for x in numbers(v)]
         return []
 
-    mu = numbers(sub.get("mu"))
-    if mu and mu[0] > 10.0:
-        raise ValueError(f"substrate.mu ({mu[0]:g}) must be at most 10")
     for key, value in sub.items():
-        if key in ("kind", "mu", "rise_fraction"):
+        if key in ("kind", "rise_fraction"):
             continue
         if any(abs(v) > MAX_LENGTH for v in numbers(value)):
             raise ValueError(f"substrate.{key} must be within +-{MAX_LENGTH:g} mm, got {value}")

@@ -7,7 +7,8 @@ A ``[substrate]`` table names its ``kind`` and the fields of that kind, for exam
     width = 1.0      # mm
     depth = 0.25     # mm
     pitch = 2.0      # mm
-    mu = 0.65
+
+The friction coefficient is not a property of the shape: it is ``[contact] mu``.
 
 :func:`parse_substrate` turns a table (a mapping) into a config object, whose ``build()``
 returns the substrate; every failure is an :class:`~bristlecrawler.errors.InputError` with one
@@ -26,22 +27,13 @@ from pydantic import (
     field_validator,
 )
 
-from bristlecrawler.contact.substrates import PAPER_MU, Flat, Grooves, Polyline, Sawtooth
+from bristlecrawler.contact.substrates import Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
 from bristlecrawler.scenario.strict import StrictSection
-
-_MU = Field(
-    PAPER_MU,
-    ge=0,
-    allow_inf_nan=False,
-    description="Coulomb friction coefficient bristle/substrate, dimensionless",
-)
 
 
 class _Base(StrictSection):
     """A substrate table (see :class:`StrictSection`)."""
-
-    mu: float = _MU
 
 
 class FlatConfig(_Base):
@@ -71,7 +63,7 @@ class GroovesConfig(_Base):
     )
 
     def build(self) -> Grooves:
-        return Grooves(**self.model_dump(exclude={"kind", "mu"}))
+        return Grooves(**self.model_dump(exclude={"kind"}))
 
 
 class SawtoothConfig(_Base):
@@ -87,7 +79,7 @@ class SawtoothConfig(_Base):
     base: float = Field(0.0, allow_inf_nan=False, description="valley level, mm")
 
     def build(self) -> Sawtooth:
-        return Sawtooth(**self.model_dump(exclude={"kind", "mu"}))
+        return Sawtooth(**self.model_dump(exclude={"kind"}))
 
 
 class PolylineConfig(_Base):

@@ -131,9 +131,12 @@ def base_value(base: Base, key: str) -> Any:
 
 
 def with_overrides(config: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
-    """A copy of the nested ``config`` with dotted ``{key: value}`` set."""
+    """A copy of the nested scenario ``config`` with dotted ``{key: value}`` set (a renamed
+    key under its new name, with a warning)."""
+    from bristlecrawler.scenario.load import current_keys
+
     out = copy.deepcopy(config)
-    for key, value in overrides.items():
+    for key, value in current_keys(overrides).items():
         *path, last = key.split(".")
         node = out
         for part in path:

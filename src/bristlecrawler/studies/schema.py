@@ -14,7 +14,7 @@ seed = 0
 [axes]
 "bristle.alpha_deg" = { linspace = [0.0, 75.0, 6] }
 "substrate.pitch" = [1.5, 2.0, 3.0]
-"substrate.mu" = { lhs = [0.3, 0.9] }
+"contact.mu" = { lhs = [0.3, 0.9] }
 ```
 """
 
@@ -118,6 +118,24 @@ class Study(BaseModel):
         description="reduced model: 'auto' takes the closed form where it holds (two "
         "bristles, sin^2 stroke), the exact solver elsewhere; 'exact': always the solver",
     )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _current_keys(cls, data: Any) -> Any:
+        """An FE study's renamed scenario keys under their new names (a warning each), so
+        that its designs, outputs and figures use one name."""
+        if not (isinstance(data, dict) and data.get("model") == "fe"):
+            return data
+        from bristlecrawler.scenario.load import current_keys
+
+        data = dict(data)
+        for table in ("set", "axes"):
+            if isinstance(data.get(table), dict):
+                try:
+                    data[table] = current_keys(data[table])
+                except InputError as exc:
+                    raise ValueError(f"[{table}] {exc}") from None
+        return data
 
     @field_validator("axes", mode="before")
     @classmethod
