@@ -74,3 +74,61 @@ def test_a_step_is_accepted_grown_halved_or_ends_the_run_as_documented(
         assert out.status == STEP_TOO_SMALL
     else:
         assert out.status == out.cause
+
+
+class _Info:
+    def __init__(self, iterations):
+        self.iterations = iterations
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    limit=st.floats(0.01, 0.3),
+    t_end=st.floats(0.5, 3.0),
+    dt=st.floats(0.05, 1.0),
+)
+def test_the_host_loop_reaches_the_end_with_steps_the_rule_allows(limit, t_end, dt):
+    """A step of the host loop converges (easily) exactly when it is at most ``limit``:
+    the loop ends at t_end, every accepted step is at most ``limit``, after each failure
+    it halves the step tried, and it never tries past the end."""
+    from bristlecrawler.fe.control import march
+
+    control = StepControl()
+
+    def attempt(t, h):
+        return t + h, _Info(2), SUCCESS if h <= limit else 3, None
+
+    t, tried = 0.0, []
+    for a in march(attempt, 0.0, 0.0, t_end, dt, 1e-9, dt, control):
+        tried.append(a.h)
+        assert a.h <= t_end - t + 1e-12
+        if a.outcome.good:
+            assert a.h <= limit
+            t = a.new
+        else:
+            assert not a.outcome.failed
+            assert a.outcome.dt == pytest.approx(0.5 * a.h)
+    assert t == pytest.approx(t_end)
+    # grows after easy steps, within dt
+    assert max(tried) <= dt
+
+
+def test_the_host_loop_stops_on_a_failure_below_dt_min_and_when_told():
+    from bristlecrawler.fe.control import march
+
+    def never(t, h):
+        return t + h, _Info(12), 3, None
+
+    tries = list(march(never, 0.0, 0.0, 1.0, 0.1, 0.01, 0.1))
+    # 0.1, 0.05, 0.025, 0.0125: half of the last is below dt_min, and the run ends
+    assert [a.h for a in tries] == pytest.approx([0.1, 0.05, 0.025, 0.0125])
+    assert tries[-1].outcome.failed and tries[-1].outcome.status == STEP_TOO_SMALL
+
+    def fine(t, h):
+        return t + h, _Info(1), SUCCESS, None
+
+    rows = []
+    for a in march(fine, 0.0, 0.0, 1.0, 0.1, 0.01, 0.1, more=lambda: len(rows) < 3):
+        rows.append(a.h)
+    # asked before each try: three steps of the ten to the end
+    assert rows == pytest.approx([0.1, 0.1, 0.1])
