@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResult
+from bristlecrawler.reduced.metrics import NET_ADVANCE_MM
 
 REDUCED_STUDY = """\
 name = "grip"
@@ -91,14 +92,14 @@ def run_study(ctx: Context) -> PartResult:
         )
     ]
     outputs = {
-        "net advance, 5 cycles (mm)": red["net_advance_mm"].values,
+        "net advance, 5 cycles (mm)": red[NET_ADVANCE_MM].values,
         "work, 5 cycles (mJ)": red["work_mJ"].values,
     }
     save_figure(
         plot_study(c, outputs, "F_p/k (mm)", "reduced model: grip", _failed(red)),
         ctx.folder / figs[0].path,
     )
-    adv = red["net_advance_mm"].values
+    adv = red[NET_ADVANCE_MM].values
     stopped = c[adv <= 1e-9]
     stop = f"{stopped[0]:.2f}" if stopped.size else f"more than {c[-1]:.1f}"
     lines = [
@@ -139,7 +140,7 @@ def _fe_inclination(ctx: Context):
         "FE crawler: advance and work of one cycle against the bristles' inclination alpha.",
     )
     outputs = {
-        "advance, 1 cycle (mm)": ds["net_advance_mm"].values,
+        "advance, 1 cycle (mm)": ds[NET_ADVANCE_MM].values,
         "work, 1 cycle (mJ)": ds["work_mJ"].values,
     }
     save_figure(
@@ -149,7 +150,7 @@ def _fe_inclination(ctx: Context):
         ctx.folder / fig.path,
     )
     rows = ", ".join(
-        f"{a:g}°: {v:.2f} mm" for a, v in zip(alpha, ds["net_advance_mm"].values, strict=True)
+        f"{a:g}°: {v:.2f} mm" for a, v in zip(alpha, ds[NET_ADVANCE_MM].values, strict=True)
     )
     lines = [
         f"FE crawler, {summary['designs_total']} inclinations, one cycle each "
@@ -161,7 +162,7 @@ def _fe_inclination(ctx: Context):
     values = {
         "inclination_deg": alpha.tolist(),
         "inclination_advance_mm": [
-            None if np.isnan(v) else float(v) for v in ds["net_advance_mm"].values
+            None if np.isnan(v) else float(v) for v in ds[NET_ADVANCE_MM].values
         ],
     }
     return [fig], lines, values
