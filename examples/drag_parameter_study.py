@@ -8,7 +8,10 @@ horizontal stiffness of the tapered bristle (linear beam theory, without and wit
 
     python examples/drag_parameter_study.py --out drag-study      # table, CSV and figure
 
-About 18 drag tests: 30-60 minutes on a 2-core machine. ``--only alpha`` runs one study.
+About 18 drag tests: 30-60 minutes on a 2-core machine. ``--only alpha_deg`` runs one study;
+``--only elements phase fillet_top penalty_load`` the study of what the drag test's k
+depends on besides the bristle (the mesh, where the tip starts within a pitch, the land
+edges' radius, the contact penalty).
 """
 
 from __future__ import annotations
@@ -53,8 +56,15 @@ def _alpha(v):
     return change
 
 
-def _mu(v):
-    return lambda s: dataclasses.replace(s, contact=dataclasses.replace(s.contact, mu=v))
+def _contact(name):
+    def change(v):
+        return lambda s: dataclasses.replace(s, contact=dataclasses.replace(s.contact, **{name: v}))
+
+    return change
+
+
+def _elements(v):
+    return lambda s: s.replace_bristles(elements=int(v))
 
 
 #: study -> (unit, values, value -> (spec -> spec))
@@ -62,8 +72,15 @@ STUDIES = {
     "alpha_deg": ("deg", (0, 15, 30, 45, 60, 75), _alpha),
     "pitch": ("mm", (1.5, 2.0, 3.0), _grooves("pitch")),
     "depth": ("mm", (0.1, 0.25, 0.5), _grooves("depth")),
-    "mu": ("-", (0.3, 0.65, 1.0), _mu),
+    "mu": ("-", (0.3, 0.65, 1.0), _contact("mu")),
     "thickness_tip": ("mm", (0.25, 0.5, 1.0), _bristles("thickness_tip")),
+    # What the bristle's k depends on besides the bristle: the mesh, where its tip starts
+    # within a pitch (the grooves shifted under it), the land edges' radius and the
+    # contact penalty (the load at which penetration stays below 1e-3 mm).
+    "elements": ("-", (10, 20, 40, 80), _elements),
+    "phase": ("mm", (0.0, 0.5, 1.0, 1.5), _grooves("phase")),
+    "fillet_top": ("mm", (0.01, 0.02, 0.05), _grooves("fillet_top")),
+    "penalty_load": ("N", (0.1, 0.3, 1.0, 3.0), _contact("penalty_load")),
 }
 
 
@@ -77,6 +94,9 @@ def beam_stiffness(spec: CrawlerSpec, shear: bool) -> float:
 
 KEYS = (
     "k_N_per_mm",
+    "k_initial_N_per_mm",
+    "k_unload_N_per_mm",
+    "k_texture_N_per_mm",
     "k_beam_N_per_mm",
     "k_beam_shear_N_per_mm",
     "fp_N",
@@ -100,6 +120,10 @@ def row(study: str, value: float, drag: DragTest = DRAG) -> dict:
         return head | {k: math.nan for k in KEYS} | {"failure": str(exc)}
     return head | {
         "k_N_per_mm": s["k_N_per_mm"],
+        "k_initial_N_per_mm": s["k_initial_N_per_mm"],
+        "k_unload_N_per_mm": s["k_unload_N_per_mm"],
+        # the slope pooled over every phase in which the tip sticks: the texture law's k
+        "k_texture_N_per_mm": s["texture"]["k_N_per_mm"] if s.get("texture") else math.nan,
         "k_beam_N_per_mm": beam_stiffness(spec, shear=False),
         "k_beam_shear_N_per_mm": beam_stiffness(spec, shear=True),
         "fp_N": s["fp_N"],
@@ -151,7 +175,16 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--out", type=pathlib.Path, help="folder for drag-study.csv and .png")
     args = ap.parse_args(argv)
     enable_compilation_cache()
-    keys = ("k_N_per_mm", "k_beam_N_per_mm", "k_beam_shear_N_per_mm", "fp_N", "fn_N", "mu_load_N")
+    keys = (
+        "k_N_per_mm",
+        "k_initial_N_per_mm",
+        "k_texture_N_per_mm",
+        "k_beam_N_per_mm",
+        "k_beam_shear_N_per_mm",
+        "fp_N",
+        "fn_N",
+        "mu_load_N",
+    )
     print("| study | value | " + " | ".join(keys) + " |")
     print("|---" * (len(keys) + 2) + "|")
     rows = []
