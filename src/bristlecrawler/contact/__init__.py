@@ -7,7 +7,8 @@ Public API (units: mm, N, s, mJ; everything float64 JAX, pure, jit/vmap/grad-abl
   :class:`PeriodicProfile`; :data:`PAPER_GROOVES`, :data:`PAPER_MU`.
 * geometry: :func:`project` -> :class:`Projection` (gap, normal, tangent, closest point,
   arc length), :func:`gap`, :func:`project_points` (jitted, many points).
-* Coulomb kernel: :class:`CoulombLaw`, :func:`return_map` -> :class:`CoulombStep`,
+* Friction laws: the :class:`FrictionLaw` protocol the contact kernels call, and
+  :class:`CoulombLaw`, :func:`return_map` -> :class:`CoulombStep`,
   :func:`incremental_potential`, :func:`generalized_forces`, :func:`normal_force`,
   :func:`normal_energy`, :func:`friction_potential`; states :data:`OPEN`, :data:`STICK`,
   :data:`SLIP`; :data:`PAPER_TIP_LOAD`; :data:`STICK_TOL` (the stick/slip tie).
@@ -25,6 +26,7 @@ from bristlecrawler.contact.coulomb import (
     STICK_TOL,
     CoulombLaw,
     CoulombStep,
+    FrictionLaw,
     friction_potential,
     generalized_forces,
     incremental_potential,
@@ -54,6 +56,7 @@ __all__ = [
     "CoulombLaw",
     "CoulombStep",
     "Flat",
+    "FrictionLaw",
     "Grooves",
     "PeriodicProfile",
     "Polyline",

@@ -52,8 +52,6 @@ from bristlecrawler.contact.corner_tangent import WINDOW, near_forces
 from bristlecrawler.contact.coulomb import (
     CoulombLaw,
     frozen_status,
-    generalized_forces,
-    return_map,
 )
 from bristlecrawler.contact.outline import (
     clearance,
@@ -146,7 +144,7 @@ def _pulled(current, pull, law, drop=None, mode=None):
     """Nodal forces of pairs with (gap, current arc, anchor) ``current`` through the VJP
     ``pull`` of their geometry; pairs flagged in ``drop`` carry none. ``mode``: frozen
     statuses (:func:`~bristlecrawler.contact.coulomb.return_map`) or None."""
-    fg, fs = generalized_forces(*current, law, mode=mode)
+    fg, fs = law.forces(*current, mode=mode)
     if drop is not None:
         fg, fs = jnp.where(drop, 0.0, fg), jnp.where(drop, 0.0, fs)
     # The penalty energy depends on s - a: the anchor's material point moves with the
@@ -378,7 +376,7 @@ class FaceCornerContact:
 
     def penetration(self, history, params):
         """Deepest penetration (mm) of a committed history: p_N / k_N."""
-        return jnp.max(history.p_n) / params.law.k_n
+        return params.law.penetration(jnp.max(history.p_n))
 
     def init_history(self, topology, params):
         return self.history_at(jnp.zeros((topology.n_nodes, 3)), params)
@@ -393,7 +391,7 @@ class FaceCornerContact:
 
     def commit(self, u, v, t, history, params):
         g, s, a = self._current(u, history.k0, history.anchor, params)
-        step = return_map(g, s, a, params.law)
+        step = params.law.step(g, s, a)
         # Back to the anchor's material (reference) arc coordinate.
         P = self._points(u, params)
         to_ref = jax.vmap(reference_arc, in_axes=(0, 0, 0))

@@ -18,7 +18,6 @@ import jax
 import jax.numpy as jnp
 from jax.custom_derivatives import SymbolicZero, zero_from_primal
 
-from bristlecrawler.contact.coulomb import generalized_forces
 from bristlecrawler.contact.outline import feature_gap
 from bristlecrawler.contact.term import attached_points
 
@@ -75,7 +74,7 @@ def window_stiffness(term, u, C, rho, anchor, params, mode, current, sel):
             return sg(g0) + (g - sg(g)), sg(d0) + (d - sg(d))
 
         (g, d), pull = jax.vjp(geometry, uw)
-        fg, fs = generalized_forces(g, d, 0.0, params.law, mode=mode)
+        fg, fs = params.law.forces(g, d, 0.0, mode=mode)
         return pull((fg, fs))[0]
 
     def stiffness(*args):

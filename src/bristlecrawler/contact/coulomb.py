@@ -46,7 +46,7 @@ non-symmetric consistent tangent of the non-associative Coulomb law.
 from __future__ import annotations
 
 import warnings
-from typing import NamedTuple
+from typing import NamedTuple, Protocol, runtime_checkable
 
 import jax
 import jax.numpy as jnp
@@ -79,9 +79,44 @@ STICK_TOL = 1e-8
 PAPER_TIP_LOAD = 0.055 * 9.81 / 2
 
 
+@runtime_checkable
+class FrictionLaw(Protocol):
+    """What the contact kernels (point, disc and corner terms) ask of a friction law: a
+    pytree whose leaves are the law's parameters (so that they can change without a
+    recompile), with these four methods. A new law (regularised, rate-dependent,
+    directional) is one class that has them; :class:`CoulombLaw` is the one the crawler
+    uses. Every argument broadcasts over contact points.
+
+    * ``step(g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep``: one backward-Euler
+      step from the committed ``anchor`` (mm) to gap ``g`` and arc coordinate ``s`` (mm):
+      the normal force, tangential resistance, new anchor, status, slip, dissipation and
+      stored energy (see :func:`return_map`, and there for ``mode``).
+    * ``forces(g, s, anchor, lambda_n=0.0, mode=None) -> (dPhi/dg, dPhi/ds)`` (N): what
+      the residual takes, differentiable for the tangent; equal to ``(-p_n, f_t)`` of
+      ``step``.
+    * ``potential(g, s, anchor, lambda_n=0.0)``: an incremental potential (mJ, summed over
+      points) whose gradient is ``forces`` where the law has one.
+    * ``penetration(p_n)``: the penetration (mm) at which the law's normal force is
+      ``p_n`` (N), for the run's limit on penetration.
+    * ``stored_energy(p_n, f_t)``: the elastic energy (mJ) its regularisation holds at
+      normal force ``p_n`` and tangential resistance ``f_t`` (N), for the energy balance.
+    """
+
+    def step(self, g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep: ...
+
+    def forces(self, g, s, anchor, lambda_n=0.0, mode=None) -> tuple[jax.Array, jax.Array]: ...
+
+    def potential(self, g, s, anchor, lambda_n=0.0) -> jax.Array: ...
+
+    def penetration(self, p_n) -> jax.Array: ...
+
+    def stored_energy(self, p_n, f_t) -> jax.Array: ...
+
+
 @pytree()
 class CoulombLaw:
-    """Coulomb friction with penalty regularisation.
+    """Coulomb friction with penalty regularisation: the :class:`FrictionLaw` of the
+    crawler's contact terms.
 
     Attributes:
         mu: friction coefficient, dimensionless, >= 0.
@@ -92,6 +127,27 @@ class CoulombLaw:
     mu: jax.Array
     k_n: jax.Array
     k_t: jax.Array
+
+    def step(self, g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep:
+        """:func:`return_map` with this law."""
+        return return_map(g, s, anchor, self, lambda_n, mode)
+
+    def forces(self, g, s, anchor, lambda_n=0.0, mode=None) -> tuple[jax.Array, jax.Array]:
+        """:func:`generalized_forces` with this law."""
+        return generalized_forces(g, s, anchor, self, lambda_n, mode)
+
+    def potential(self, g, s, anchor, lambda_n=0.0) -> jax.Array:
+        """:func:`incremental_potential` with this law."""
+        return incremental_potential(g, s, anchor, self, lambda_n)
+
+    def penetration(self, p_n) -> jax.Array:
+        """The penalty's penetration at normal force ``p_n``: p_N / k_N, mm."""
+        return p_n / self.k_n
+
+    def stored_energy(self, p_n, f_t) -> jax.Array:
+        """The penalty springs' energy at ``p_n`` and ``f_t``: p_N^2/(2 k_N) + f_t^2/(2 k_t),
+        mJ."""
+        return 0.5 * p_n**2 / self.k_n + 0.5 * f_t**2 / self.k_t
 
     def __post_init__(self) -> None:
         vals = [as_float_leaf(self, n) for n in ("mu", "k_n", "k_t")]

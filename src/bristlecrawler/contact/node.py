@@ -18,13 +18,7 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-from bristlecrawler.contact.coulomb import (
-    CoulombLaw,
-    CoulombStep,
-    generalized_forces,
-    incremental_potential,
-    return_map,
-)
+from bristlecrawler.contact.coulomb import CoulombStep, FrictionLaw
 from bristlecrawler.contact.profile import project
 
 
@@ -33,7 +27,7 @@ def _gs(x: jax.Array, substrate, radius=0.0) -> jax.Array:
     return jnp.stack([pr.gap - radius, pr.arc_length])
 
 
-def node_potential(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0) -> jax.Array:
+def node_potential(x, anchor, substrate, law: FrictionLaw, lambda_n=0.0, radius=0.0) -> jax.Array:
     """Incremental contact potential of one node at ``x`` (2,), mJ.
 
     ``jax.grad`` w.r.t. ``x`` is the contact contribution to the internal-force vector
@@ -41,11 +35,11 @@ def node_potential(x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0
     with the normal force frozen in the friction term.
     """
     g, s = _gs(x, substrate, radius)
-    return incremental_potential(g, s, anchor, law, lambda_n)
+    return law.potential(g, s, anchor, lambda_n)
 
 
 def node_force(
-    x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0, mode=None
+    x, anchor, substrate, law: FrictionLaw, lambda_n=0.0, radius=0.0, mode=None
 ) -> jax.Array:
     """Contact contribution to the internal-force vector of a node, ``dPhi/dx``, N, (2,).
 
@@ -54,14 +48,14 @@ def node_force(
     (:func:`~bristlecrawler.contact.coulomb.return_map`).
     """
     pr = project(substrate, x)
-    fg, fs = generalized_forces(pr.gap - radius, pr.arc_length, anchor, law, lambda_n, mode)
+    fg, fs = law.forces(pr.gap - radius, pr.arc_length, anchor, lambda_n, mode)
     return fg * pr.normal + fs * pr.arc_gradient  # grad g = n, grad s in closed form
 
 
 def node_step(
-    x, anchor, substrate, law: CoulombLaw, lambda_n=0.0, radius=0.0
+    x, anchor, substrate, law: FrictionLaw, lambda_n=0.0, radius=0.0
 ) -> tuple[jax.Array, CoulombStep]:
     """Accept a converged step: ``(new_anchor, CoulombStep)`` for a node at ``x``."""
     g, s = _gs(x, substrate, radius)
-    step = return_map(g, s, anchor, law, lambda_n)
+    step = law.step(g, s, anchor, lambda_n)
     return step.anchor, step

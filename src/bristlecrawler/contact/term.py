@@ -231,7 +231,7 @@ class SubstrateContact:
 
     def penetration(self, history, params):
         """Deepest penetration (mm) of a committed history: p_N / k_N."""
-        return jnp.max(history.p_n) / params.law.k_n
+        return params.law.penetration(jnp.max(history.p_n))
 
     def init_history(self, topology, params):
         """Anchors at the reference positions (a run that starts from the reference)."""

@@ -87,7 +87,7 @@ def state_terms(state, params, topo, terms, contact_index):
     f_ext = assembly.external_force(t, 1.0, params, topo)
     full = assembly.mass_times(a, params, topo) + damp + f_int + f_terms - f_ext
     hist = state.history
-    pen = sum(jnp.sum(0.5 * hk.p_n**2 / law.k_n + 0.5 * hk.f_t**2 / law.k_t) for hk in hist)
+    pen = sum(jnp.sum(law.stored_energy(hk.p_n, hk.f_t)) for hk in hist)
     energies = jnp.stack(
         [
             assembly.internal_energy(u, params, topo),
