@@ -63,26 +63,3 @@ def test_a_fast_carriage_is_warned_about(run_cli, tmp_path, monkeypatch):
     assert summary["fp_N"] == pytest.approx(0.2, rel=1e-3)
     assert summary["fn_N"] == pytest.approx(0.2, rel=1e-3)
     assert {p.name for p in out.iterdir()} >= {"drag.nc", "drag.png", "summary.json", "meta.json"}
-
-
-class _Built(Exception):
-    """Raised by the solver's stand-in once the command has built its model."""
-
-
-def test_a_flat_substrate_runs_with_corner_contact_left_on(run_cli, tmp_path, monkeypatch):
-    # A plane has no convex corners: the corner setting (on in the paper scenario) asks for
-    # none there, so the command builds the drag model with the point contact alone. The
-    # solver's stand-in stops the run once the model is built.
-    from bristlecrawler.contact.term import SubstrateContact
-
-    built = []
-
-    def stand_in(crawler, stages, options=None, on_progress=None):
-        built.append([type(t) for t in crawler.model.terms])
-        raise _Built
-
-    monkeypatch.setattr("bristlecrawler.crawler.runner.run_stages", stand_in)
-    args = ["drag", "paper", "--set", "substrate.kind=flat", "--out", str(tmp_path / "run")]
-    with pytest.raises(_Built):
-        run_cli(args)
-    assert built == [[SubstrateContact]]

@@ -235,26 +235,3 @@ def test_numpy_scalars_are_plain_numbers_for_the_strict_schema():
     )
     assert sc.bristle.elements == 30 and type(sc.bristle.elements) is int
     assert sc.bristle.alpha_deg == 30.0 and sc.substrate.pitch == 2.5
-
-
-class _Built(Exception):
-    """Raised by the solver's stand-in once the command has built its model."""
-
-
-def test_a_flat_substrate_runs_with_corner_contact_left_on(run_cli, tmp_path, monkeypatch):
-    # A plane has no convex corners: the corner setting (on in the paper scenario) asks for
-    # none there, so the command builds the crawler with the point contact alone. The
-    # solver's stand-in stops the run once the model is built.
-    from bristlecrawler.contact.term import SubstrateContact
-
-    built = []
-
-    def stand_in(crawler, stages, options=None, on_progress=None):
-        built.append([type(t) for t in crawler.model.terms])
-        raise _Built
-
-    monkeypatch.setattr("bristlecrawler.crawler.runner.run_stages", stand_in)
-    args = ["simulate", "paper", "--set", "substrate.kind=flat", "--out", str(tmp_path / "run")]
-    with pytest.raises(_Built):
-        run_cli(args)
-    assert built == [[SubstrateContact]]
