@@ -31,9 +31,31 @@ def _flat():
 
 @functools.cache
 def _grooves():
-    # The paper's bristle and contact: on grooves a corner must not pass between the
-    # contact points of a coarse bristle (the corner term), else the step is refused.
-    return PAPER, drag_test(PAPER, DragTest(direction="along", distance=6.0, speed=2.0))
+    """The paper's bristle and contact dragged 6 mm along the grain and back (a corner
+    must not pass between the contact points of a coarse bristle on grooves, so the
+    corner term, else the step is refused). One run for the along tests (its first leg,
+    :func:`_along`) and the texture law (both legs): compiling the drag's programs costs
+    far more than its steps."""
+    return drag_test(PAPER, DragTest(direction="cycle", distance=6.0, speed=2.0))
+
+
+def _along(r):
+    """The first leg of a cycle on its own: what a drag along the grain over the same
+    path records (the run up to the turn is the same)."""
+    n = r.legs[0][1] + 1
+    return dataclasses.replace(
+        r,
+        t=r.t[:n],
+        x=r.x[:n],
+        lift=r.lift[:n],
+        force_x=r.force_x[:n],
+        contact=r.contact[:n],
+        tip=r.tip[:n],
+        tip_state=r.tip_state[:n],
+        energies={k: v[:n] for k, v in r.energies.items()},
+        legs=r.legs[:1],
+        frame_nodes=None if r.frame_nodes is None else r.frame_nodes[:n],
+    )
 
 
 @pytest.mark.slow
@@ -73,7 +95,8 @@ def test_the_work_of_the_drive_over_whole_pitches_is_what_they_dissipate():
     so the drive's work (the integral of its force) is the friction and damping loss, less
     what the integrator loses when the tip snaps into a groove in one step (the balance
     residual of docs/findings.md, 4 % here)."""
-    _, r = _grooves()
+    r = _along(_grooves())
+    assert r.legs == ((0, r.x.size - 1, 1),) and r.x[-1] == pytest.approx(6.0, abs=1e-3)
     k = r.first_slip(0)
     x0 = r.x[k]
     x1 = x0 + r.pitch * int((r.x[-1] - x0) // r.pitch)
@@ -88,6 +111,20 @@ def test_the_work_of_the_drive_over_whole_pitches_is_what_they_dissipate():
     s = r.sliding(+1)
     assert s.pitches >= 2 and 0.5 * r.mu * r.load < s.mean < 3.0 * r.mu * r.load
     assert s.peak >= s.high >= s.mean >= s.low > 0
+
+
+@pytest.mark.slow
+def test_the_fe_bristle_on_grooves_slides_on_lands_at_mu_load_and_locks_at_walls():
+    """The texture law of an FE drag back and forth over three pitches of the paper's
+    grooves: along the grain the lowest resistance of a cell is sliding on a land, mu
+    times the load; against it some cells resist more than any cell along it (the groove
+    walls, where a tip that other bristles pull back stops)."""
+    r = _grooves()
+    law = r.texture()
+    assert law is not None
+    assert law.fp_N.min() == pytest.approx(r.mu * r.load, rel=0.1)
+    assert law.fn_N.max() > 1.2 * law.fp_N.max()
+    assert law.lock_positions_mm.size >= 1
 
 
 @pytest.mark.parametrize(

@@ -1,5 +1,6 @@
-"""The texture law read from a drag test: the reduced bristle's own law read back, and
-a short FE drag over grooves."""
+"""The texture law read from a drag test: the reduced bristle's own law read back (the
+FE bristle's law on grooves is tested in test_drag.py, on the drag run its tests
+share)."""
 
 import dataclasses
 import functools
@@ -7,7 +8,6 @@ import functools
 import numpy as np
 import pytest
 
-from bristlecrawler.crawler import CrawlerSpec
 from bristlecrawler.crawler.drag_analysis import DragResult
 from bristlecrawler.crawler.drag_texture import texture_law
 from bristlecrawler.errors import InputError
@@ -91,25 +91,3 @@ def test_a_drag_one_way_gives_no_texture_law():
     with pytest.raises(InputError, match="against"):
         texture_law(one)
     assert one.summary()["texture"] is None
-
-
-@functools.cache
-def _fe_cycle():
-    from bristlecrawler.crawler.drag import DragTest, drag_test
-
-    spec = CrawlerSpec.paper().replace_bristles(elements=10)
-    return drag_test(spec, DragTest(direction="cycle", distance=4.0, speed=2.0))
-
-
-@pytest.mark.slow
-def test_the_fe_bristle_on_grooves_slides_on_lands_at_mu_load_and_locks_at_walls():
-    """A short FE drag back and forth over two pitches of the paper's grooves: along the
-    grain the lowest resistance of a cell is sliding on a land, mu times the load; against
-    it some cells resist more than any cell along it (the groove walls, where a tip that
-    other bristles pull back stops)."""
-    r = _fe_cycle()
-    law = r.texture()
-    assert law is not None
-    assert law.fp_N.min() == pytest.approx(r.mu * r.load, rel=0.1)
-    assert law.fn_N.max() > 1.2 * law.fp_N.max()
-    assert law.lock_positions_mm.size >= 1
