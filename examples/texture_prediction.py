@@ -14,6 +14,10 @@ the bristle-count study, two cycles of s~ = 20 mm at 45 degrees), so that the ta
 no FE run; ``--fe`` runs the FE crawler for every design instead (minutes each).
 ``--out FILE.jsonl`` appends each design's row (or its failure) as it finishes, and a
 second run with the same file skips the designs already in it.
+
+Each row carries the FE run's quality warnings (``warnings``: those ``bristlecrawler
+simulate`` prints, such as a bristle strain outside the beam model; null for the stored
+results, whose warnings were not kept), and the table shows them in its "why" column.
 """
 
 from __future__ import annotations
@@ -65,11 +69,15 @@ def scenario(overrides):
     return apply_overrides(load_scenario("paper"), [*overrides, "actuation.cycles=2"])
 
 
-def fe_run(sc) -> tuple[tuple[float, ...], float]:
+def fe_run(sc) -> tuple[tuple[float, ...], float, list[str]]:
+    """The FE crawler's advance per cycle (mm), work (mJ) and quality warnings, the
+    warnings being those of ``bristlecrawler simulate`` (its summary's)."""
     from bristlecrawler.crawler import run
+    from bristlecrawler.jobs.simulate import summarize
 
     h = run(to_spec(sc))
-    return tuple(float(a) for a in h.advance_per_cycle()), float(h.connector_work[-1])
+    adv = tuple(float(a) for a in h.advance_per_cycle())
+    return adv, float(h.connector_work[-1]), list(summarize(h, sc)["warnings"])
 
 
 def design_name(overrides) -> str:
@@ -86,20 +94,22 @@ def is_cached(overrides) -> bool:
 
 
 def evaluate(overrides, fe=None) -> dict:
-    """One design's row: FE (given or run), texture and paper models."""
+    """One design's row: FE (run, or given as advance per cycle and work, with or
+    without its warnings), texture and paper models."""
     from bristlecrawler.jobs.predict import cached_drag, predict_models, prediction_drag_test
 
     sc = scenario(overrides)
     spec = to_spec(sc)
     summary, _ = cached_drag(sc, prediction_drag_test(spec))
     models = predict_models(spec, summary, cycles=2)
-    fe_adv, fe_work = fe if fe is not None else fe_run(sc)
-    return row_of(design_name(overrides), summary.texture, models, fe_adv, fe_work)
+    fe = fe if fe is not None else fe_run(sc)
+    warnings = list(fe[2]) if len(fe) > 2 else None
+    return row_of(design_name(overrides), summary.texture, models, fe[0], fe[1], warnings)
 
 
-def row_of(name, law, models, fe_adv, fe_work) -> dict:
+def row_of(name, law, models, fe_adv, fe_work, warnings=None) -> dict:
     """A design's row from its texture ``law``, the reduced ``models``' metrics and the
-    FE crawler's advance per cycle (mm) and work (mJ)."""
+    FE crawler's advance per cycle (mm), work (mJ) and warnings (None: not known)."""
     pitch = law.pitch_mm
     row = {
         "design": name,
@@ -107,6 +117,7 @@ def row_of(name, law, models, fe_adv, fe_work) -> dict:
         "fe_advance_per_cycle_mm": list(fe_adv),
         "fe_steady_mm": fe_adv[-1],
         "k_N_per_mm": law.k_N_per_mm,
+        "warnings": warnings,
     }
     for name, m in models.items():
         steady = m.advance_per_cycle[-1]
@@ -119,11 +130,18 @@ def row_of(name, law, models, fe_adv, fe_work) -> dict:
     return row
 
 
+def why(row) -> str:
+    """The row's FE warnings in one line (empty without any, or for a row of a file
+    written before rows carried them)."""
+    return "; ".join(row.get("warnings") or ())
+
+
 def markdown(rows) -> str:
     """The rows as the findings' table."""
     head = (
         "| design | pitch (mm) | FE steady cycle (mm) | texture model (mm) | paper's model "
-        "(mm) | FE work (mJ) | texture work | paper work |\n|---|---|---|---|---|---|---|---|"
+        "(mm) | FE work (mJ) | texture work | paper work | why |\n"
+        "|---|---|---|---|---|---|---|---|---|"
     )
     lines = [head]
     for r in rows:
@@ -132,7 +150,7 @@ def markdown(rows) -> str:
             f"{r['texture_steady_mm']:.2f}{'' if r['texture_hit'] else ' (miss)'} | "
             f"{r['paper_steady_mm']:.2f}{'' if r['paper_hit'] else ' (miss)'} | "
             f"{r['fe_work_mJ']:.2f} | {r['texture_work_error']:+.1%} | "
-            f"{r['paper_work_error']:+.1%} |"
+            f"{r['paper_work_error']:+.1%} | {why(r)} |"
         )
     return "\n".join(lines)
 
@@ -194,12 +212,15 @@ def main(argv=None) -> list[dict]:
             args.out.parent.mkdir(parents=True, exist_ok=True)
             with args.out.open("a") as f:
                 f.write(json.dumps(entry) + "\n")
-    print(f"{'design':40s} {'FE':>6s} {'texture':>8s} {'paper':>6s}  work err (tex, paper)")
+    print(
+        f"{'design':40s} {'FE':>6s} {'texture':>8s} {'paper':>6s}  "
+        f"{'work err (tex, paper)':21s}  why"
+    )
     for r in rows:
         errors = f"{r['texture_work_error']:+.1%} {r['paper_work_error']:+.1%}"
         print(
             f"{r['design']:40s} {r['fe_steady_mm']:6.2f} {r['texture_steady_mm']:8.2f} "
-            f"{r['paper_steady_mm']:6.2f}  {errors}"
+            f"{r['paper_steady_mm']:6.2f}  {errors:21s}  {why(r)}".rstrip()
         )
     if args.markdown:
         print(markdown(rows))

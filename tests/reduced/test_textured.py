@@ -84,6 +84,45 @@ def test_the_two_bristle_batch_is_the_event_solver():
         assert r.energy_balance_error < 1e-12
 
 
+@settings(max_examples=4, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), cells=st.integers(2, 7))
+def test_each_design_of_a_batch_moves_as_it_would_alone(seed, cells):
+    """Designs of a batch finish their cycles after different numbers of events; each
+    one's advance and work are those of the design alone in a batch and, for one of
+    them, those of the event-driven solver (rear and front laws of their own)."""
+    rng = np.random.default_rng(seed)
+    B = 20
+
+    def law(pitch, origin):
+        fn = rng.uniform(0.1, 0.8, cells)
+        fn[rng.integers(cells)] = np.inf if rng.random() < 0.5 else fn[0]
+        return TextureLaw(
+            pitch,
+            rng.uniform(0.2, 0.5, cells),
+            fn,
+            rng.uniform(0.3, 3.0),
+            origin_mm=origin,
+            tip_offset_mm=rng.uniform(-4.0, 0.0),
+        )
+
+    pitch, origin = rng.uniform(0.5, 4.0, B), rng.uniform(0.0, 4.0, B)
+    pairs = [(law(pitch[j], origin[j]), law(pitch[j], origin[j])) for j in range(B)]
+    length = rng.uniform(40.0, 120.0, B)
+    s_max = length * rng.uniform(0.05, 0.3, B)
+    start = rng.uniform(0.0, 3.0, B)
+    adv, work = pair_cycles(PairBatch.of(pairs, length, s_max, start), cycles=3)
+    for j in range(B):
+        a, w = pair_cycles(PairBatch.of([pairs[j]], length[j], s_max[j], start[j]), cycles=3)
+        np.testing.assert_allclose(a[0], adv[j], atol=1e-9)
+        np.testing.assert_allclose(w[0], work[j], atol=1e-9)
+    j = rng.integers(B)
+    crawler = TexturedCrawler(pairs[j], [length[j]], start[j])
+    r = simulate(crawler, Sin2Stroke(s_max[j], 20.0), cycles=3, samples_per_cycle=40)
+    a, w = r.per_cycle()
+    np.testing.assert_allclose(a, adv[j], atol=1e-9)
+    np.testing.assert_allclose(w, work[j], atol=1e-9)
+
+
 @pytest.mark.parametrize("n", [2, 3])
 def test_work_is_elastic_energy_plus_friction_plus_snaps(n):
     """Every snap's loss is the elastic energy it releases: W = E_el + D to round-off."""

@@ -76,82 +76,126 @@ def _wall_edges(law: TextureLaw) -> np.ndarray:
 
 
 class _Tables:
-    """The batch's laws as flat tables, indexed by (design, tip, cell)."""
+    """The batch's laws as flat tables, indexed by (design, tip, cell).
+
+    F_n is stored shifted by one cell with the last cell in front (``n + 1`` entries per
+    tip), so that the cell behind a tip is read at the index of the cell ahead plus 0 (on
+    an edge) or 1 (inside a cell): one reduction modulo ``n`` per tip instead of two.
+    """
 
     def __init__(self, b: PairBatch):
-        self.n = b.fp.shape[-1]
-        self.fp, self.fn = b.fp.ravel(), b.fn.ravel()
+        n = self.n = b.fp.shape[-1]
+        self.fp = b.fp.ravel()
+        self.fn = np.concatenate([b.fn[..., -1:], b.fn], axis=-1).ravel()
         self.walls = b.walls.ravel() if b.walls.any() else None
-        self.cell = b.pitch / self.n
-        self.origin = b.origin
+        # A bit mask reduces modulo a power of two, also below zero, at a fraction of
+        # the cost of an integer remainder.
+        self.mask = n - 1 if n & (n - 1) == 0 else None
 
-    def at(self, rows: np.ndarray, x: np.ndarray):
-        """Resistances ahead (F_p) and behind (F_n) of tips at ``x`` (rows of the batch,
-        shape (R, 2)) and the cell edges ahead and behind, mm."""
-        n, c, o = self.n, self.cell[rows, None], self.origin[rows, None]
-        u = (x - o) / c
+    def at(self, st: _State):
+        """Resistances ahead (F_p) and behind (F_n) of the tips of the live designs, and
+        the floor and ceiling of their positions in cells, each shape (2, R): rear tips,
+        front tips. The cell edges ahead and behind are at ``fl + 1`` and ``ce - 1``."""
+        u = (st.x - st.origin) / st.cell
         fl, ce = np.floor(u + 1e-9), np.ceil(u - 1e-9)
-        base = (rows[:, None] * 2 + np.arange(2)) * n
-        fp = self.fp[base + fl.astype(int) % n]
-        fn = self.fn[base + (ce.astype(int) - 1) % n]
+        ahead = fl.astype(np.int64)
+        if self.mask is None:
+            ahead %= self.n
+        else:
+            ahead &= self.mask
+        # ceil(u - 1e-9) - floor(u + 1e-9) is 0 on an edge and 1 inside a cell.
+        behind = ahead + st.fn_base
+        behind += ce > fl
+        ahead += st.fp_base
+        fp, fn = self.fp[ahead], self.fn[behind]
         if self.walls is not None:  # a tip on a wall's edge goes no further back
-            near = np.round(u)
-            on = self.walls[base + near.astype(int) % n] & (np.abs(u - near) < 1e-9)
-            fn = np.where(on, np.inf, fn)
-        return fp, fn, o + c * (fl + 1.0), o + c * (ce - 1.0)
+            # (on an edge, the edge is floor(u + 1e-9): the index of the cell ahead)
+            on = self.walls[ahead] & (np.abs(u - np.round(u)) < 1e-9)
+            fn[on] = np.inf
+        return fp, fn, fl, ce
 
 
-def _step(tables, rows, x, f, s, W, half, K, s_max, ftol):
+class _State:
+    """The live designs of a batch: tips' positions x (2, R: rear, front), force f,
+    shortening s, work W, half strokes done, and per-design constants."""
+
+    def __init__(self, b: PairBatch, x: np.ndarray):
+        B, n = b.fp.shape[0], b.fp.shape[-1]
+        self.rows = np.arange(B)
+        tips = np.stack([2 * self.rows, 2 * self.rows + 1])  # (2, B)
+        self.fp_base, self.fn_base = tips * n, tips * (n + 1)
+        self.x = np.ascontiguousarray(x.T)
+        self.cell = b.pitch / n
+        self.origin = b.origin.copy()
+        self.K = b.k[:, 0] * b.k[:, 1] / b.k.sum(axis=1)
+        self.s_max = b.s_max.copy()
+        self.s, self.f, self.W = np.zeros(B), np.zeros(B), np.zeros(B)
+        self.half = np.zeros(B, dtype=np.int64)
+
+    def keep(self, keep: np.ndarray) -> None:
+        for name in ("rows", "cell", "origin", "K", "s_max", "s", "f", "W", "half"):
+            setattr(self, name, getattr(self, name)[keep])
+        for name in ("x", "fp_base", "fn_base"):
+            setattr(self, name, getattr(self, name)[:, keep])
+
+
+def _step(tables: _Tables, st: _State, ftol: float) -> np.ndarray:
     """One event of every live design: a snap, or elastic loading and/or a slide.
-    Returns the new x, f, s, W and which designs finished their half stroke."""
-    r = np.arange(rows.size)
-    fp, fn, up, down = tables.at(rows, x)
-    hi = np.minimum(fp[:, 0], fn[:, 1])  # rear forwards / front backwards
-    lo = np.maximum(-fn[:, 0], -fp[:, 1])  # rear backwards / front forwards
-    rear_hi, rear_lo = fp[:, 0] <= fn[:, 1], fn[:, 0] <= fp[:, 1]
-    rising = half % 2 == 0
-    sgn = np.where(rising, 1.0, -1.0)
-    left = np.where(rising, s_max - s, s)  # stroke left in this half cycle, mm
-    # 1. A snap: the weaker tip at the bound f exceeds slides on at frozen s until f is
-    # down to its cell's resistance or the tip reaches the next edge.
+    Updates ``st`` and returns which designs finished their half stroke.
+
+    Every event moves at most one tip, the weaker at the bound f is at or pushed
+    towards: at the upper bound (f pulls the rear tip forwards and the front tip
+    backwards) the rear tip forwards or the front tip backwards, at the lower bound the
+    reverse. A snap goes to the bound f exceeds, loading and sliding to the bound the
+    stroke pushes f to; a snap that settles at the latter slides on in the same event.
+    """
+    fp, fn, fl, ce = tables.at(st)
+    x, f, K = st.x, st.f, st.K
+    hi = np.minimum(fp[0], fn[1])
+    lo = -np.minimum(fn[0], fp[1])
+    rising = (st.half & 1) == 0
+    left = np.where(rising, st.s_max - st.s, st.s)  # stroke left in this half cycle, mm
     snap_hi, snap_lo = f > hi + ftol, f < lo - ftol
     snap = snap_hi | snap_lo
-    tip = np.where(snap_hi, ~rear_hi, ~rear_lo).astype(int)
-    fwd = np.where(snap_hi, rear_hi, ~rear_lo)
-    xt = x[r, tip]
-    edge = np.where(fwd, up[r, tip], down[r, tip])
+    upper = snap_hi | (rising & ~snap_lo)  # the bound of this event is the upper one
+    sgn = np.where(upper, 1.0, -1.0)  # the stroke's sign where the stroke moves f or a tip
+    bound = np.where(upper, hi, lo)
+    # The moving tip: the front one where it is the weaker at the bound.
+    tip = np.where(upper, fp[0] > fn[1], fn[0] > fp[1])
+    fwd = tip ^ upper
+    step = np.where(fwd, 1.0, -1.0)
+    xt = np.where(tip, x[1], x[0])
+    cells = np.where(fwd, np.where(tip, fl[1], fl[0]) + 1.0, np.where(tip, ce[1], ce[0]) - 1.0)
+    edge = st.origin + st.cell * cells
+    reach = np.abs(bound - f) / K  # tip travel of a snap, stroke of a loading, mm
+    # 1. A snap: the tip slides on at frozen s until f is down to the bound or the tip
+    # reaches its cell's edge.
     to_edge = np.abs(edge - xt)
-    bound = np.where(snap_hi, hi, lo)
-    need = np.abs(f - bound) / K
-    d = np.minimum(need, to_edge)
-    inside = need < to_edge
-    x[r, tip] = np.where(snap, np.where(inside, xt + np.where(fwd, d, -d), edge), xt)
-    f = np.where(snap, np.where(inside, bound, f - np.where(snap_hi, K, -K) * d), f)
-    # Ended inside its cell at the bound the stroke pushes on: it slides on below.
-    settled = snap & inside & (snap_hi == rising)
-    # 2. Elastic loading: f moves at K per mm of stroke until a bound or the stroke end.
-    bound = np.where(rising, hi, lo)
-    elastic = ~snap & np.where(rising, f < hi - ftol, f > lo + ftol)
-    de = np.minimum(np.abs(bound - f) / K, left)
-    W = W + np.where(elastic, sgn * (f + sgn * 0.5 * K * de) * de, 0.0)
+    inside = reach < to_edge
+    xt = np.where(snap, np.where(inside, xt + step * np.minimum(reach, to_edge), edge), xt)
+    # 2. Elastic loading: f moves at K per mm of stroke until the bound or the stroke end.
+    elastic = ~snap & (sgn * f < sgn * bound - ftol)
+    de = np.where(elastic, np.minimum(reach, left), 0.0)
     reached = elastic & (de < left)
-    f = np.where(elastic, np.where(reached, bound, f + sgn * K * de), f)
-    left = np.where(elastic, left - de, left)
-    # 3. A slide at constant f of the weaker tip at that bound, to its next cell edge
-    # or the stroke's end (no tip has changed cell since the resistances were read).
+    W = st.W + sgn * (f + sgn * 0.5 * K * de) * de
+    moved = np.where(snap, -np.minimum(reach, to_edge), de)
+    f = np.where((snap & inside) | reached, bound, f + sgn * K * moved)
+    left = left - de
+    # 3. A slide at constant f of the tip to its cell's edge or the stroke's end (no
+    # tip has changed cell since the resistances were read). A snap that ended inside
+    # its cell at the bound the stroke pushes on slides on below.
+    settled = snap & inside & (upper == rising)
     slide = (~snap & ~elastic) | reached | settled
-    tip = np.where(rising, ~rear_hi, ~rear_lo).astype(int)
-    fwd = np.where(rising, rear_hi, ~rear_lo)
-    xt = x[r, tip]
-    edge = np.where(fwd, up[r, tip], down[r, tip])
     to_edge = np.abs(edge - xt)
-    d = np.minimum(to_edge, left)
-    x[r, tip] = np.where(slide, np.where(to_edge <= left, edge, xt + np.where(fwd, d, -d)), xt)
-    W = W + np.where(slide, sgn * f * d, 0.0)
-    left = np.where(slide, left - d, left)
-    done = (~snap | settled) & (left <= 0.0)
-    s = np.where(rising, s_max - left, left)
-    return x, f, s, W, done
+    d = np.where(slide, np.minimum(to_edge, left), 0.0)
+    xt = np.where(slide & (to_edge <= left), edge, xt + step * d)
+    x[0] = np.where(tip, x[0], xt)
+    x[1] = np.where(tip, xt, x[1])
+    st.W = W + sgn * f * d
+    left = left - d
+    st.f = f
+    st.s = np.where(rising, st.s_max - left, left)
+    return (~snap | settled) & (left <= 0.0)
 
 
 def pair_cycles(b: PairBatch, cycles: int = 2, max_events: int = 200_000):
@@ -159,32 +203,31 @@ def pair_cycles(b: PairBatch, cycles: int = 2, max_events: int = 200_000):
     shape (B, cycles), for the breathing stroke 0 -> s_max -> 0 repeated ``cycles`` times."""
     B = b.pitch.size
     tables = _Tables(b)
-    K_all = b.k[:, 0] * b.k[:, 1] / b.k.sum(axis=1)
     x_all = np.stack([b.start, b.start + b.length], axis=1) + b.offset
     adv, work = np.zeros((B, cycles)), np.zeros((B, cycles))
     front0 = _front(b, np.arange(B), x_all)
-    rows = np.arange(B)
-    x, K, s_max = x_all.copy(), K_all, b.s_max
-    s, f, W, W0 = np.zeros(B), np.zeros(B), np.zeros(B), np.zeros(B)
-    half = np.zeros(B, dtype=int)
+    W0 = np.zeros(B)
+    st = _State(b, x_all)
     ftol = 1e-12 * (1.0 + np.abs(b.fp).max())
+    last = 2 * cycles
     for _ in range(max_events):
-        if rows.size == 0:
+        if st.rows.size == 0:
             return adv, work
-        rising = half % 2 == 0
-        x, f, s, W, done = _step(tables, rows, x, f, s, W, half, K, s_max, ftol)
-        ended = done & ~rising
+        done = _step(tables, st, ftol)
+        done &= st.half < last  # designs past their last cycle step on until dropped
+        ended = done & ((st.half & 1) == 1)
         if ended.any():
-            g, c = rows[ended], half[ended] // 2
-            fr = _front(b, g, x[ended])
+            g, c = st.rows[ended], st.half[ended] // 2
+            fr = _front(b, g, st.x[:, ended].T)
             adv[g, c] = fr - front0[g]
-            work[g, c] = W[ended] - W0[g]
-            front0[g], W0[g] = fr, W[ended]
-        half = half + done
-        keep = half < 2 * cycles
-        if not keep.all():
-            rows, x, K, s_max = rows[keep], x[keep], K[keep], s_max[keep]
-            s, f, W, half = s[keep], f[keep], W[keep], half[keep]
+            work[g, c] = st.W[ended] - W0[g]
+            front0[g], W0[g] = fr, st.W[ended]
+        st.half += done
+        # Dropping finished designs copies every array, so it waits until they are a
+        # sixteenth of the live ones; until then they step on, their results recorded.
+        finished = int(np.count_nonzero(st.half >= last))
+        if finished and 16 * finished >= st.rows.size:
+            st.keep(st.half < last)
     raise SolverError(f"two-bristle events did not finish within {max_events} events")
 
 
