@@ -24,6 +24,11 @@ TIP_OPEN, TIP_STICK, TIP_SLIP = ContactState.OPEN, ContactState.STICK, ContactSt
 # land as wide as the tip (pitch 1.5 mm, 20 elements) reached 1.17.
 STRAIN_LIMIT = 0.5
 
+#: A run whose body moves faster than this fraction of the stroke's mean shortening rate
+#: at the end of the gravity step is flagged (:meth:`CrawlerHistory.unsettled`): the
+#: first cycle's advance then depends on how the gravity step was stepped.
+SETTLE_SPEED_LIMIT = 0.01
+
 
 @dataclass(frozen=True)
 class StrainPeak:
@@ -207,6 +212,9 @@ class CrawlerHistory:
         warnings = []
         if peak is not None and peak.strain > STRAIN_LIMIT:
             warnings.append(peak.message())
+        unsettled = self.unsettled()
+        if unsettled is not None:
+            warnings.append(unsettled)
         nan = float("nan")
         force = self.connector_force if self.segment_force is None else self.segment_force
         span = max(self.t[-1] - self.t[0], 1e-300)
@@ -231,8 +239,27 @@ class CrawlerHistory:
             "first_frequency_hz": float(st.get("first_frequency_hz", nan)),
             "rayleigh_a0_per_s": float(st.get("rayleigh_a0", nan)),
             "max_bristle_strain": nan if peak is None else peak.strain,
+            "settle_speed_mm_s": float(st.get("settle_speed_mm_s", nan)),
             "warnings": warnings,
         }
+
+    def unsettled(self) -> str | None:
+        """A warning when the body still moved at the end of the gravity step faster than
+        :data:`SETTLE_SPEED_LIMIT` times the stroke's mean shortening rate (None: at rest,
+        or not recorded)."""
+        speed = self.stats.get("settle_speed_mm_s")
+        span = self.t[-1] - self.t[0] if self.t.size else 0.0
+        if speed is None or not span > 0.0:
+            return None
+        rate = float(np.sum(np.abs(np.diff(self.s)))) / span
+        if not speed > SETTLE_SPEED_LIMIT * rate:
+            return None
+        return (
+            f"the body still moved at {speed:.3g} mm/s at the end of the gravity step "
+            f"({speed / rate:.1%} of the stroke's mean shortening rate, {rate:.3g} mm/s): "
+            "the first cycle starts from a state that depends on the gravity step's time "
+            "steps; lengthen actuation.settle_time"
+        )
 
     def energy_balance_residual(self) -> np.ndarray:
         """external - (elastic + kinetic + potential + friction + damping), mJ."""
