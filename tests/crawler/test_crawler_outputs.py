@@ -151,18 +151,18 @@ def test_a_strain_peak_below_the_limit_reads_without_a_start():
 
 @pytest.mark.parametrize(("fraction", "warned"), [(0.005, False), (0.02, True)])
 def test_a_body_still_moving_after_the_gravity_step_is_reported(history, fraction, warned):
-    """The body's speed at the end of the gravity step against the stroke's mean
-    shortening rate (the total variation of s over the run's time): above 1 % the summary
-    warns and names the setting to lengthen; below, or not recorded, it does not."""
+    """The distance the body would still creep after the gravity step against its
+    largest advance per cycle: above 1 % the summary warns and names the setting to
+    lengthen; below, or not recorded, it does not."""
     import dataclasses
 
-    from bristlecrawler.crawler.history import SETTLE_SPEED_LIMIT
+    from bristlecrawler.crawler.history import SETTLE_CREEP_LIMIT
 
-    h = history
-    rate = np.sum(np.abs(np.diff(h.s))) / (h.t[-1] - h.t[0])
-    moving = dataclasses.replace(h, stats={**h.stats, "settle_speed_mm_s": fraction * rate})
+    scale = np.max(np.abs(history.advance_per_cycle()))
+    stats = {"settle_speed_mm_s": 0.5, "settle_creep_mm": fraction * scale}
+    moving = dataclasses.replace(history, stats={**history.stats, **stats})
     s = moving.summary()
-    assert (fraction > SETTLE_SPEED_LIMIT) is warned
-    assert s["settle_speed_mm_s"] == pytest.approx(fraction * rate)
+    assert (fraction > SETTLE_CREEP_LIMIT) is warned
+    assert s["settle_creep_mm"] == pytest.approx(fraction * scale)
     assert any("actuation.settle_time" in w for w in s["warnings"]) is warned
-    assert history.unsettled() is None and np.isnan(history.summary()["settle_speed_mm_s"])
+    assert history.unsettled() is None and np.isnan(history.summary()["settle_creep_mm"])

@@ -24,10 +24,10 @@ TIP_OPEN, TIP_STICK, TIP_SLIP = ContactState.OPEN, ContactState.STICK, ContactSt
 # land as wide as the tip (pitch 1.5 mm, 20 elements) reached 1.17.
 STRAIN_LIMIT = 0.5
 
-#: A run whose body moves faster than this fraction of the stroke's mean shortening rate
-#: at the end of the gravity step is flagged (:meth:`CrawlerHistory.unsettled`): the
-#: first cycle's advance then depends on how the gravity step was stepped.
-SETTLE_SPEED_LIMIT = 0.01
+#: A run whose body would still creep more than this fraction of its advance per cycle
+#: after the gravity step is flagged (:meth:`CrawlerHistory.unsettled`): its first
+#: cycle's advance then depends on how the gravity step was stepped.
+SETTLE_CREEP_LIMIT = 0.01
 
 
 @dataclass(frozen=True)
@@ -240,25 +240,28 @@ class CrawlerHistory:
             "rayleigh_a0_per_s": float(st.get("rayleigh_a0", nan)),
             "max_bristle_strain": nan if peak is None else peak.strain,
             "settle_speed_mm_s": float(st.get("settle_speed_mm_s", nan)),
+            "settle_creep_mm": float(st.get("settle_creep_mm", nan)),
             "warnings": warnings,
         }
 
     def unsettled(self) -> str | None:
-        """A warning when the body still moved at the end of the gravity step faster than
-        :data:`SETTLE_SPEED_LIMIT` times the stroke's mean shortening rate (None: at rest,
+        """A warning when the body still moved at the end of the gravity step by enough
+        to matter: the distance it would still creep there (``settle_creep_mm``) above
+        :data:`SETTLE_CREEP_LIMIT` times the largest advance of a cycle (None: settled,
         or not recorded)."""
-        speed = self.stats.get("settle_speed_mm_s")
-        span = self.t[-1] - self.t[0] if self.t.size else 0.0
-        if speed is None or not span > 0.0:
+        creep = self.stats.get("settle_creep_mm")
+        if creep is None:
             return None
-        rate = float(np.sum(np.abs(np.diff(self.s)))) / span
-        if not speed > SETTLE_SPEED_LIMIT * rate:
+        advance = np.abs(self.advance_per_cycle())
+        scale = float(np.max(advance)) if advance.size else 0.0
+        if not creep > SETTLE_CREEP_LIMIT * scale:
             return None
+        speed = self.stats.get("settle_speed_mm_s", float("nan"))
         return (
-            f"the body still moved at {speed:.3g} mm/s at the end of the gravity step "
-            f"({speed / rate:.1%} of the stroke's mean shortening rate, {rate:.3g} mm/s): "
-            "the first cycle starts from a state that depends on the gravity step's time "
-            "steps; lengthen actuation.settle_time"
+            f"the body still moved at {speed:.3g} mm/s at the end of the gravity step (about "
+            f"{creep:.2g} mm more to go, against {scale:.3g} mm of advance per cycle): the "
+            "first cycle starts from a state that depends on the gravity step's time steps; "
+            "lengthen actuation.settle_time"
         )
 
     def energy_balance_residual(self) -> np.ndarray:

@@ -312,7 +312,12 @@ class Settle(SteppedStage):
             # after the gravity step starts its first cycle from a state that depends on
             # the step sizes that got it there (docs/findings.md).
             v = jax.device_get(ctx.state.v)[list(body), :2]
-            ctx.stats["settle_speed_mm_s"] = float(np.max(np.hypot(v[:, 0], v[:, 1])))
+            speed = float(np.max(np.hypot(v[:, 0], v[:, 1])))
+            ctx.stats["settle_speed_mm_s"] = speed
+            # Mass-proportional damping a0 takes every mode down at the rate a0 / 2: the
+            # distance the body would still go at that speed, to its order of magnitude.
+            a0 = float(ctx.damping.a0)
+            ctx.stats["settle_creep_mm"] = 2.0 * speed / a0 if a0 > 0.0 else math.inf
 
     @staticmethod
     def setup(ctx: RunContext) -> None:
