@@ -37,6 +37,8 @@ def timed(fn, args, repeat: int) -> tuple[float, float]:
 
 def programs(ctx):
     """The programs to time on the context's state: name -> (jitted fn, args)."""
+    import dataclasses
+
     import jax
     import jax.numpy as jnp
 
@@ -72,12 +74,22 @@ def programs(ctx):
     def contact(u, v, history):
         return assembly.terms_residual(u, v, state.t, history, params, terms)
 
+    @jax.jit
+    def bare_tangent(state, params, q):
+        # The same step without the contact terms: what the tangent costs for the beams,
+        # the inertia and the constraints alone.
+        bare = dataclasses.replace(state, history=())
+        res = step_equations(bare, params, dt, topo, (), ig)[1]
+        return banded.extract(lambda q: res(q)[0], q, topo)
+
     step = fe.make_step(topo, terms, ig)
+    bare_params = dataclasses.replace(params, extra=())
     return {
         "time step": (step, (state, params, dt)),
         "residual": (residual, (state, params, state.q)),
         "tangent (residual included)": (tangent, (state, params, state.q)),
         # The tangent's output, once it is compiled.
+        "tangent without contact terms": (bare_tangent, (state, bare_params, state.q)),
         "solve": (solve, lambda: tangent(state, params, state.q)[::-1]),
         "internal force": (internal, (state.u,)),
         "contact terms": (contact, (state.u, state.v, state.history)),

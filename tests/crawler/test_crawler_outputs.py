@@ -147,3 +147,22 @@ def test_a_strain_peak_below_the_limit_reads_without_a_start():
         text.startswith("bristle 1 (from the left) turns by 5.0 deg at its node 3")
         and "above" not in text
     )
+
+
+@pytest.mark.parametrize(("fraction", "warned"), [(0.005, False), (0.02, True)])
+def test_a_body_still_moving_after_the_gravity_step_is_reported(history, fraction, warned):
+    """The distance the body would still creep after the gravity step against its
+    largest advance per cycle: above 1 % the summary warns and names the setting to
+    lengthen; below, or not recorded, it does not."""
+    import dataclasses
+
+    from bristlecrawler.crawler.history import SETTLE_CREEP_LIMIT
+
+    scale = np.max(np.abs(history.advance_per_cycle()))
+    stats = {"settle_speed_mm_s": 0.5, "settle_creep_mm": fraction * scale}
+    moving = dataclasses.replace(history, stats={**history.stats, **stats})
+    s = moving.summary()
+    assert (fraction > SETTLE_CREEP_LIMIT) is warned
+    assert s["settle_creep_mm"] == pytest.approx(fraction * scale)
+    assert any("actuation.settle_time" in w for w in s["warnings"]) is warned
+    assert history.unsettled() is None and np.isnan(history.summary()["settle_creep_mm"])

@@ -313,8 +313,9 @@ class _BatchAdvance:
             t = np.asarray(carry.state.t)
             for j in np.flatnonzero(active):
                 ctx = ctxs[slots[j]]
-                if check:
-                    ctx.records.extend(jax.tree.map(lambda b, j=j: b[j], buf), k[j])
+                # Every stage records, as a single run does (the gravity step's records
+                # number a failure's step; the stage clears them when it finishes).
+                ctx.records.extend(jax.tree.map(lambda b, j=j: b[j], buf), k[j])
                 if failed[j]:
                     self._fail(slots[j], stage, jax.tree.map(lambda x, j=j: x[j], carry))
                     active[j] = False

@@ -24,6 +24,11 @@ TIP_OPEN, TIP_STICK, TIP_SLIP = ContactState.OPEN, ContactState.STICK, ContactSt
 # land as wide as the tip (pitch 1.5 mm, 20 elements) reached 1.17.
 STRAIN_LIMIT = 0.5
 
+#: A run whose body would still creep more than this fraction of its advance per cycle
+#: after the gravity step is flagged (:meth:`CrawlerHistory.unsettled`): its first
+#: cycle's advance then depends on how the gravity step was stepped.
+SETTLE_CREEP_LIMIT = 0.01
+
 
 @dataclass(frozen=True)
 class StrainPeak:
@@ -207,6 +212,9 @@ class CrawlerHistory:
         warnings = []
         if peak is not None and peak.strain > STRAIN_LIMIT:
             warnings.append(peak.message())
+        unsettled = self.unsettled()
+        if unsettled is not None:
+            warnings.append(unsettled)
         nan = float("nan")
         force = self.connector_force if self.segment_force is None else self.segment_force
         span = max(self.t[-1] - self.t[0], 1e-300)
@@ -231,8 +239,30 @@ class CrawlerHistory:
             "first_frequency_hz": float(st.get("first_frequency_hz", nan)),
             "rayleigh_a0_per_s": float(st.get("rayleigh_a0", nan)),
             "max_bristle_strain": nan if peak is None else peak.strain,
+            "settle_speed_mm_s": float(st.get("settle_speed_mm_s", nan)),
+            "settle_creep_mm": float(st.get("settle_creep_mm", nan)),
             "warnings": warnings,
         }
+
+    def unsettled(self) -> str | None:
+        """A warning when the body still moved at the end of the gravity step by enough
+        to matter: the distance it would still creep there (``settle_creep_mm``) above
+        :data:`SETTLE_CREEP_LIMIT` times the largest advance of a cycle (None: settled,
+        or not recorded)."""
+        creep = self.stats.get("settle_creep_mm")
+        if creep is None:
+            return None
+        advance = np.abs(self.advance_per_cycle())
+        scale = float(np.max(advance)) if advance.size else 0.0
+        if not creep > SETTLE_CREEP_LIMIT * scale:
+            return None
+        speed = self.stats.get("settle_speed_mm_s", float("nan"))
+        return (
+            f"the body still moved at {speed:.3g} mm/s at the end of the gravity step (about "
+            f"{creep:.2g} mm more to go, against {scale:.3g} mm of advance per cycle): the "
+            "first cycle starts from a state that depends on the gravity step's time steps; "
+            "lengthen actuation.settle_time"
+        )
 
     def energy_balance_residual(self) -> np.ndarray:
         """external - (elastic + kinetic + potential + friction + damping), mJ."""

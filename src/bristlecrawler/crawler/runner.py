@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 import jax
+import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build
@@ -222,10 +223,9 @@ class RunContext:
         """The steps' energy check (energy created beyond ``solver.energy_tol``, lost
         beyond ``solver.energy_loss_tol``) for the stroke (``losses`` True); the gravity
         step runs without one. Bounding the energy the gravity step creates removes the
-        wrong roots of steeply inclined bristles, but it moved the flat drag test's first
-        loading slope from 1.060-1.08 times the closed form to 1.092 times and made the
-        paper crawler's advance on a flat plane depend on the stick penalty (0.205 mm at
-        1e-4 mm, 0.116 mm at 1e-3 mm): see docs/findings.md."""
+        wrong roots of steeply inclined bristles, but on a coarse crawler set down on the
+        lands it turns a forward gait into a backward one, not yet explained: see
+        docs/findings.md."""
         sv = self.spec.solver
         tols = (sv.energy_tol, sv.energy_loss_tol)
         return EnergyCheck(*tols) if losses and any(map(math.isfinite, tols)) else None
@@ -304,6 +304,16 @@ class Settle(SteppedStage):
 
     def finish(self, ctx: RunContext) -> None:
         ctx.records.clear()
+        body = getattr(ctx.crawler, "body", ())
+        if body:
+            # How far from rest the stroke starts (docs/findings.md); mass-proportional
+            # damping a0 takes every mode down at the rate a0 / 2, so 2 v / a0 is the
+            # distance the body would still go, to its order of magnitude.
+            v = jax.device_get(ctx.state.v)[list(body), :2]
+            speed = float(np.max(np.hypot(v[:, 0], v[:, 1])))
+            ctx.stats["settle_speed_mm_s"] = speed
+            a0 = float(ctx.damping.a0)
+            ctx.stats["settle_creep_mm"] = 2.0 * speed / a0 if a0 > 0.0 else math.inf
 
     @staticmethod
     def setup(ctx: RunContext) -> None:
