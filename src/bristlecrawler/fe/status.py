@@ -51,7 +51,7 @@ _TEXT = {
     SUCCESS: "converged",
     MAX_ITERATIONS: "Newton did not converge within the iteration limit",
     NONFINITE: "residual or solution became NaN/inf (singular tangent or diverging iterate)",
-    STEP_TOO_SMALL: "step cut below its minimum without convergence",
+    STEP_TOO_SMALL: "step cut below its minimum",
     SINGULAR: "tangent is singular",
     ROTATION_LIMIT: "increment rotated a node by more than the allowed rotation increment",
     PENETRATION: "converged with a contact penetration beyond the allowed depth",
