@@ -200,7 +200,8 @@ def test_a_linear_spring_with_a_directional_law_gives_back_its_k_fp_and_fn():
 
 
 def test_the_typed_summary_is_the_summary_files_mapping():
-    """``summary()`` is ``summarize().to_dict()``, and reads back to the same values."""
+    """``summary()`` is ``summarize().to_dict()`` with the run's warnings, and reads back
+    to the same values."""
     from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.reduced.drag_summary import DragSummary
 
@@ -211,8 +212,11 @@ def test_the_typed_summary_is_the_summary_files_mapping():
         pytest.approx(0.2, rel=1e-9),
         pytest.approx(0.5, rel=1e-9),
     )
-    text = dumps_strict(r.summary())
-    assert dumps_strict(DragSummary.from_dict(r.summary()).to_dict()) == text
+    summary = r.summary()
+    assert summary.pop("warnings") == []
+    text = dumps_strict(summary)
+    assert text == dumps_strict(typed.to_dict())
+    assert dumps_strict(DragSummary.from_dict(summary).to_dict()) == text
 
 
 @pytest.mark.slow
@@ -226,3 +230,23 @@ def test_on_a_flat_plane_the_secant_stiffness_is_the_beams_too():
         b.youngs_modulus, b.width, b.thickness_clamp, b.thickness_tip, b.length, b.alpha
     )
     assert 0.95 < r.secant_stiffness(0) / k < 1.08
+
+
+@pytest.mark.slow
+def test_a_rig_still_ringing_after_its_gravity_step_is_warned_and_a_settled_one_not():
+    """After the paper's 0.5 s the flat rig still rings (its first loading slope then
+    depends on the gravity step's time steps, :func:`_flat`); after 1.5 s it is at rest.
+    The summary records the carriage's speed and creep, and warns on the first only."""
+    spec, settled = _flat()
+    early = dataclasses.replace(spec.actuation, settle_time=0.5)
+    ringing = drag_test(
+        dataclasses.replace(spec, actuation=early),
+        DragTest(direction="along", distance=1.5, load=0.02),
+    )
+    quiet, loud = settled.summary(), ringing.summary()
+    assert quiet["warnings"] == []
+    assert len(loud["warnings"]) == 1 and "actuation.settle_time" in loud["warnings"][0]
+    assert loud["settle_speed_mm_s"] > quiet["settle_speed_mm_s"] > 0.0
+    # the creep is 2 v / a0 of the gravity step's damping, the same in both runs
+    ratio = loud["settle_creep_mm"] / quiet["settle_creep_mm"]
+    assert ratio == pytest.approx(loud["settle_speed_mm_s"] / quiet["settle_speed_mm_s"])

@@ -77,6 +77,8 @@ def drag_cmd(
         on_start=lambda: [typer.echo(n, err=True) for n in notes],
         estimate=estimate.text(),
     )
+    for warning in run.summary["warnings"]:
+        typer.echo(f"warning: {warning}", err=True)
     if as_json:
         typer.echo(summary_json(run.summary))
         return

@@ -154,6 +154,12 @@ class DragModel:
     tip_points: tuple[tuple[int, ...], ...]
     load: float
 
+    @property
+    def body(self) -> tuple[int, ...]:
+        """The carriage's node: the gravity step records how fast it still moves at its
+        end (:class:`~bristlecrawler.crawler.runner.Settle`), as a crawler's body."""
+        return (self.clamp,)
+
     def observer(self):
         m = self.model
         index = m.terms.index(self.contact)

@@ -151,12 +151,41 @@ class DragResult:
             newton_iterations=int(self.stats.get("newton_iterations", 0)),
             wall_time=float(self.stats.get("wall_time_s", math.nan)),
             texture=self.texture(),
+            settle_speed=float(self.stats.get("settle_speed_mm_s", math.nan)),
+            settle_creep=float(self.stats.get("settle_creep_mm", math.nan)),
         )
 
     def summary(self) -> dict:
         """The parameters (units in the keys; NaN where the test does not give one):
-        :meth:`summarize` as a JSON-ready mapping."""
-        return self.summarize().to_dict()
+        :meth:`summarize` as a JSON-ready mapping, with the run's ``warnings``."""
+        summary = self.summarize()
+        warning = self._unsettled(summary.fp_over_k)
+        return summary.to_dict() | {"warnings": [warning] if warning else []}
+
+    def unsettled(self) -> str | None:
+        """A warning when the carriage still moved at the end of the gravity step by
+        enough to matter: the distance it would still creep there (``settle_creep_mm``)
+        above :data:`~bristlecrawler.crawler.history.SETTLE_CREEP_LIMIT` times the first
+        loading's travel to sliding, F_p / k (None: settled, or not recorded). The first
+        loading's slope depends on how a rig that still rings was stepped
+        (docs/findings.md)."""
+        return self._unsettled(self.summarize().fp_over_k)
+
+    def _unsettled(self, scale: float) -> str | None:
+        from bristlecrawler.crawler.history import SETTLE_CREEP_LIMIT
+
+        creep = self.stats.get("settle_creep_mm")
+        if creep is None or not math.isfinite(scale):
+            return None
+        if not creep > SETTLE_CREEP_LIMIT * abs(scale):
+            return None
+        speed = self.stats.get("settle_speed_mm_s", math.nan)
+        return (
+            f"the carriage still moved at {speed:.3g} mm/s at the end of the gravity step "
+            f"(about {creep:.2g} mm more to go, against F_p / k = {scale:.3g} mm of travel "
+            "to sliding): k depends on the gravity step's time steps; lengthen "
+            "actuation.settle_time"
+        )
 
     def texture(self, cells: int | None = None):
         """The bristle's :class:`~bristlecrawler.reduced.texture.TextureLaw` (resistance
@@ -243,7 +272,11 @@ class DragResult:
             load=float(ds.attrs["load_N"]),
             mu=float(ds.attrs["mu"]),
             legs=tuple(tuple(int(v) for v in leg) for leg in legs),
-            stats={k: ds.attrs[k] for k in ("steps", "newton_iterations") if k in ds.attrs},
+            stats={
+                k: ds.attrs[k]
+                for k in ("steps", "newton_iterations", "settle_speed_mm_s", "settle_creep_mm")
+                if k in ds.attrs
+            },
         )
 
 

@@ -99,6 +99,8 @@ class DragSummary:
         steps, newton_iterations: counters of the solve.
         wall_time: wall time of the solve, s.
         texture: the bristle's texture law, or None where the test did not slide both ways.
+        settle_speed: the carriage's speed at the end of the gravity step, mm/s.
+        settle_creep: how far it would still move there under that step's damping, mm.
     """
 
     k: float
@@ -114,6 +116,8 @@ class DragSummary:
     newton_iterations: int
     wall_time: float
     texture: TextureLaw | None = None
+    settle_speed: float = math.nan
+    settle_creep: float = math.nan
 
     @property
     def fp(self) -> float:
@@ -152,6 +156,8 @@ class DragSummary:
             "newton_iterations": self.newton_iterations,
             "wall_time_s": self.wall_time,
             "texture": self.texture.to_dict() if self.texture is not None else None,
+            "settle_speed_mm_s": self.settle_speed,
+            "settle_creep_mm": self.settle_creep,
         }
 
     @classmethod
@@ -173,4 +179,6 @@ class DragSummary:
             newton_iterations=int(data.get("newton_iterations", 0)),
             wall_time=_number(data.get("wall_time_s")),
             texture=TextureLaw.from_dict(law) if isinstance(law, dict) else law,
+            settle_speed=_number(data.get("settle_speed_mm_s")),
+            settle_creep=_number(data.get("settle_creep_mm")),
         )
