@@ -5,8 +5,8 @@ of your own::
 
     python examples/fe_read_results_netcdf.py runs/<id>/crawler.nc
 
-Without one, the example makes a short, coarse run (see ``fe_run_scenario.py``), writes
-its ``crawler.nc`` into a temporary folder and reads that. Every variable carries its
+Without one, the example makes a short run (the inclined one of ``fe_run_scenario.py``),
+writes its ``crawler.nc`` into a temporary folder and reads that. Every variable carries its
 unit in ``attrs["units"]``; the docs' output reference lists them all.
 """
 
@@ -20,15 +20,9 @@ import numpy as np
 import xarray as xr
 
 QUICK = [
-    "bristle.elements=4",
-    "contact.nodes='tip'",
-    "contact.surface=false",
-    "contact.corners=false",
-    "substrate.phase=0.5",
-    "actuation.s_max=2.0",
-    "actuation.period=1.0",
+    "actuation.s_max=8.0",  # mm
+    "actuation.period=4.0",  # s
     "actuation.cycles=1",
-    "actuation.settle_time=0.2",
 ]
 
 

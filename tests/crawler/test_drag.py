@@ -26,8 +26,8 @@ def _flat():
     load: a long stick phase at small deflection, then steady sliding. Its gravity step
     is long enough for the rig to come to rest: after the paper's 0.5 s it still rings,
     and the first loading slope then depends on how that step was stepped (1.073 times
-    the closed form, 1.092 with the gravity step's steps bounded by the energy they
-    create; 1.067 and 1.063 after 1.5 s)."""
+    the closed form without the bound on the energy a step creates, 1.092 with it; 1.067
+    and 1.063 after 1.5 s)."""
     spec = _coarse(PAPER, surface=False, mu=2.0).replace_bristles(elements=6, shear=False)
     rest = dataclasses.replace(spec.actuation, settle_time=1.5)
     spec = dataclasses.replace(spec, substrate=Flat(), actuation=rest)

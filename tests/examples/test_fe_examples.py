@@ -1,7 +1,7 @@
 """The finite-element examples run and give physically sensible numbers.
 
-They share one model structure (4 elements per bristle, tip contact), so the step
-program is compiled once for all of them (and for tests/crawler/test_fe_crawler_short.py).
+They share one model structure, the paper's crawler, so the step program is compiled once
+for all of them (and for the other tests that run the paper's crawler).
 """
 
 import importlib.util
@@ -34,13 +34,17 @@ def run_scenario():
 
 @pytest.mark.slow
 def test_inclined_bristles_advance_and_vertical_ones_on_a_mirror_texture_do_not(run_scenario):
-    """alpha = 0 on grooves placed symmetrically under the crawler: the problem is mirror
-    symmetric, so it cannot advance; alpha = 45 deg breaks the symmetry."""
+    """alpha = 0 on grooves placed symmetrically under the crawler has no preferred
+    direction; alpha = 45 deg breaks the symmetry and crawls."""
     ex = run_scenario
-    assert abs(ex.advance_vertical_mm) < 1e-6
-    assert ex.advance_inclined_mm > 1e-2
-    # quasi-static: one cycle cannot carry the crawler further than its stroke
-    assert ex.advance_inclined_mm < 2.0
+    s = ex.stroke_mm
+    # quasi-static: one cycle cannot carry the crawler further than its stroke; the
+    # holding tip's backslip to a groove wall and the elastic lag cost the paper's
+    # crawler 4 mm of a steady cycle (docs/findings.md), less in its first
+    assert s - 4.0 < ex.advance_inclined_mm < s
+    # A vertical bristle squeezed along its axis can bow either way, so the symmetric
+    # crawler is only symmetric to round-off; it must not crawl.
+    assert abs(ex.advance_vertical_mm) < 0.01 * ex.advance_inclined_mm
     assert ex.work_inclined_mJ > 0.0
 
 
@@ -51,9 +55,10 @@ def test_netcdf_example_reads_back_the_run(run_scenario):
     # the file holds the same run as the in-memory history of the same scenario
     assert n["net_advance_mm"] == pytest.approx(run_scenario.advance_inclined_mm, abs=1e-9)
     assert n["connector_work_mJ"] == pytest.approx(run_scenario.work_inclined_mJ, rel=1e-9)
-    assert n["peak_shortening_mm"] == pytest.approx(2.0, abs=1e-6)
+    s = run_scenario.stroke_mm
+    assert n["peak_shortening_mm"] == pytest.approx(s, abs=1e-6)
     # at full contraction the front end has moved back by less than the shortening
-    assert -2.0 < n["delta_at_peak_shortening_mm"] < 0.0
+    assert -s < n["delta_at_peak_shortening_mm"] < 0.0
     assert 0.0 <= n["right_tip_slip_fraction"] <= 1.0
     assert n["frames"] >= 2
 

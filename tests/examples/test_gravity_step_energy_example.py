@@ -18,11 +18,6 @@ def _example():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="the gravity step runs without a bound on the energy a step creates "
-    "(docs/findings.md, steep bristles)",
-)
 def test_a_60_degree_crawler_settles_without_energy_from_nothing():
     r = _example().created_per_step(60.0)
     # Settling under gravity only releases energy: nothing may appear beyond the bound.

@@ -12,6 +12,7 @@ work is ``W_c = sum_j int F_j ds_j``.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -59,8 +60,9 @@ class EnergyCheck:
         return jnp.maximum(-e / self.tol, e / self.loss_tol)
 
     def created(self, prev, new):
-        """The check of the energy created alone (losses unbounded), the gravity step's."""
-        return -self.error(prev, new) / self.tol
+        """The check of the energy created alone (losses unbounded), the gravity step's:
+        this check with ``loss_tol`` = inf."""
+        return dataclasses.replace(self, loss_tol=math.inf)(prev, new)
 
 
 def observer(cm):

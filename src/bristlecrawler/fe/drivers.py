@@ -124,9 +124,15 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
     def end(c, new, info, h, params, t_end, dt_min, dt_max, checked=True):
         carry, buf, k, _, last = c
         rec = observe(new, params)
-        # ``checked`` False (a batch's stage without the check) gives the loop of
-        # check=None: no step is refused, and the growth test is the plain one.
-        ratio = None if check is None else jnp.where(checked, check(last, rec), 0.0)
+        # ``checked`` False (a batch's gravity step): the check's bound on the energy a
+        # step creates alone (its ``created``), as a single run's check without losses.
+        # A single run's loop passes the literal True: its check needs no ``created``.
+        if check is None:
+            ratio = None
+        elif checked is True:
+            ratio = check(last, rec)
+        else:
+            ratio = jnp.where(checked, check(last, rec), check.created(last, rec))
         out = control.decide(info.status, info.iterations, h, carry.dt, dt_min, dt_max, ratio)
         good, dt, failed, cause = out.good, out.dt, out.failed, out.cause
         info = dataclasses.replace(info, status=out.status)
@@ -184,12 +190,13 @@ def make_batch_driver(
     ``max_iter``) holds up no other design. ``run(carry, pending, params, t_stop, t_end,
     chunk, dt_min, dt_max, checked)`` with every argument stacked on a leading design axis
     (from :func:`stack`; ``pending`` from :attr:`BatchDriver.pending` at the start);
-    ``checked`` (bool) switches the ``check`` of a design off (its steps as with
-    ``check=None``), so that a stage without the check (the gravity step) runs in the same
-    program. Each design keeps its own step size, rejections, Newton iterations and
-    records, and takes the steps of its single run: the same operations, one iteration
-    at a time. One that is done or has failed is masked (its state does not move) while
-    the others iterate, and one design's failure does not stop the others.
+    ``checked`` (bool) False bounds a design's steps by the check's ``created(previous,
+    new)`` instead (the energy a step creates alone: the gravity step's bound), so that
+    the gravity step runs in the same program. Each design keeps its own step size,
+    rejections, Newton iterations and records, and takes the steps of its single run:
+    the same operations, one iteration at a time. One that is done or has failed is
+    masked (its state does not move) while the others iterate, and one design's failure
+    does not stop the others.
     ``parallel_trials``: Newton's line search makes all its trials at once (the same
     results; see :func:`newton.newton_parts`), so that a batched iteration does not
     make as many trials as the batch's longest search.
