@@ -112,9 +112,8 @@ class Stage(Protocol):
 class Advance:
     """The time stepping a stage asks for: ``span`` s from the state's time, in chunks
     of ``chunk`` s (a chunk's end caps a step, so a batch takes the same chunks as the
-    single run), steps of at most ``dt_max`` s; ``check``: the step's whole energy check,
-    or (False) its bound on the energy a step creates alone (the gravity step), see
-    :meth:`RunContext.energy_check`."""
+    single run), steps of at most ``dt_max`` s; ``check``: the whole energy check, or
+    (False) its bound on the energy created alone (:meth:`RunContext.energy_check`)."""
 
     span: float
     chunk: float
@@ -223,11 +222,9 @@ class RunContext:
 
     def energy_check(self, losses: bool) -> EnergyCheck | None:
         """The steps' energy check: energy created beyond ``solver.energy_tol`` is refused
-        in every stage, energy lost beyond ``solver.energy_loss_tol`` only where
-        ``losses`` (the stroke, the drag). The gravity step's losses are unbounded (the
-        crawler drops onto its tips and the damping takes the energy); bounding what it
-        creates keeps its Newton off the roots that curl a steep bristle up off the
-        substrate (docs/findings.md)."""
+        in every stage (in the gravity step it keeps Newton off the roots that curl a steep
+        bristle off the substrate, docs/findings.md), energy lost beyond
+        ``solver.energy_loss_tol`` only where ``losses`` (the stroke, the drag)."""
         sv = self.spec.solver
         tols = (sv.energy_tol, sv.energy_loss_tol if losses else math.inf)
         return EnergyCheck(*tols) if any(map(math.isfinite, tols)) else None
@@ -308,14 +305,12 @@ class Settle(SteppedStage):
         ctx.records.clear()
         body = getattr(ctx.crawler, "body", ())
         if body:
-            # How far from rest the stroke starts: a crawler still sliding or ringing
-            # after the gravity step starts its first cycle from a state that depends on
-            # the step sizes that got it there (docs/findings.md).
+            # How far from rest the stroke starts (docs/findings.md); mass-proportional
+            # damping a0 takes every mode down at the rate a0 / 2, so 2 v / a0 is the
+            # distance the body would still go, to its order of magnitude.
             v = jax.device_get(ctx.state.v)[list(body), :2]
             speed = float(np.max(np.hypot(v[:, 0], v[:, 1])))
             ctx.stats["settle_speed_mm_s"] = speed
-            # Mass-proportional damping a0 takes every mode down at the rate a0 / 2: the
-            # distance the body would still go at that speed, to its order of magnitude.
             a0 = float(ctx.damping.a0)
             ctx.stats["settle_creep_mm"] = 2.0 * speed / a0 if a0 > 0.0 else math.inf
 
