@@ -36,6 +36,8 @@ BOTH_WAYS = [
     "newton_iterations",
     "wall_time_s",
     "texture",
+    "settle_speed_mm_s",
+    "settle_creep_mm",
 ]
 
 
