@@ -172,19 +172,14 @@ class DragResult:
         return self._unsettled(self.summarize().fp_over_k)
 
     def _unsettled(self, scale: float) -> str | None:
-        from bristlecrawler.crawler.history import SETTLE_CREEP_LIMIT
+        from bristlecrawler.crawler.history import settle_warning
 
-        creep = self.stats.get("settle_creep_mm")
-        if creep is None or not math.isfinite(scale):
-            return None
-        if not creep > SETTLE_CREEP_LIMIT * abs(scale):
-            return None
-        speed = self.stats.get("settle_speed_mm_s", math.nan)
-        return (
-            f"the carriage still moved at {speed:.3g} mm/s at the end of the gravity step "
-            f"(about {creep:.2g} mm more to go, against F_p / k = {scale:.3g} mm of travel "
-            "to sliding): k depends on the gravity step's time steps; lengthen "
-            "actuation.settle_time"
+        return settle_warning(
+            self.stats,
+            scale,
+            "carriage",
+            f"F_p / k = {scale:.3g} mm of travel to sliding",
+            "k depends on the gravity step's time steps",
         )
 
     def texture(self, cells: int | None = None):

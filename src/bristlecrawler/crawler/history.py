@@ -24,10 +24,28 @@ TIP_OPEN, TIP_STICK, TIP_SLIP = ContactState.OPEN, ContactState.STICK, ContactSt
 # land as wide as the tip (pitch 1.5 mm, 20 elements) reached 1.17.
 STRAIN_LIMIT = 0.5
 
-#: A run whose body would still creep more than this fraction of its advance per cycle
-#: after the gravity step is flagged (:meth:`CrawlerHistory.unsettled`): its first
-#: cycle's advance then depends on how the gravity step was stepped.
+#: A run whose body would still creep more than this fraction of its scale after the
+#: gravity step is flagged (:func:`settle_warning`; a crawler's advance per cycle, a drag
+#: test's F_p / k): its first cycle or first loading then depends on how the gravity
+#: step was stepped.
 SETTLE_CREEP_LIMIT = 0.01
+
+
+def settle_warning(stats: dict, scale: float, what: str, against: str, effect: str) -> str | None:
+    """The warning of a run whose ``what`` (the body, the carriage) still moved at the end
+    of the gravity step by enough to matter: the distance it would still creep there
+    (``stats["settle_creep_mm"]``) above :data:`SETTLE_CREEP_LIMIT` times ``scale`` (mm),
+    which ``against`` names; ``effect`` says what depends on it (None: settled, not
+    recorded, or no finite scale)."""
+    creep = stats.get("settle_creep_mm")
+    if creep is None or not np.isfinite(scale) or not creep > SETTLE_CREEP_LIMIT * abs(scale):
+        return None
+    speed = stats.get("settle_speed_mm_s", float("nan"))
+    return (
+        f"the {what} still moved at {speed:.3g} mm/s at the end of the gravity step (about "
+        f"{creep:.2g} mm more to go, against {against}): {effect}; lengthen "
+        "actuation.settle_time"
+    )
 
 
 @dataclass(frozen=True)
@@ -249,19 +267,14 @@ class CrawlerHistory:
         to matter: the distance it would still creep there (``settle_creep_mm``) above
         :data:`SETTLE_CREEP_LIMIT` times the largest advance of a cycle (None: settled,
         or not recorded)."""
-        creep = self.stats.get("settle_creep_mm")
-        if creep is None:
-            return None
         advance = np.abs(self.advance_per_cycle())
         scale = float(np.max(advance)) if advance.size else 0.0
-        if not creep > SETTLE_CREEP_LIMIT * scale:
-            return None
-        speed = self.stats.get("settle_speed_mm_s", float("nan"))
-        return (
-            f"the body still moved at {speed:.3g} mm/s at the end of the gravity step (about "
-            f"{creep:.2g} mm more to go, against {scale:.3g} mm of advance per cycle): the "
-            "first cycle starts from a state that depends on the gravity step's time steps; "
-            "lengthen actuation.settle_time"
+        return settle_warning(
+            self.stats,
+            scale,
+            "body",
+            f"{scale:.3g} mm of advance per cycle",
+            "the first cycle starts from a state that depends on the gravity step's time steps",
         )
 
     def energy_balance_residual(self) -> np.ndarray:

@@ -126,7 +126,7 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
         rec = observe(new, params)
         # ``checked`` False (a batch's gravity step): the check's bound on the energy a
         # step creates alone (its ``created``), as a single run's check without losses.
-        # A single run's loop passes the literal True: its check needs no ``created``.
+        # A single run's loop passes the literal True: one ratio, nothing else traced.
         if check is None:
             ratio = None
         elif checked is True:
