@@ -22,6 +22,11 @@ if "BRISTLECRAWLER_JAX_CACHE" not in os.environ:
     os.environ["BRISTLECRAWLER_JAX_CACHE"] = _cache
     atexit.register(shutil.rmtree, _cache, ignore_errors=True)
 os.environ.setdefault("BRISTLECRAWLER_XLA_CACHE", "0")
+# Every load and compile of a stored program, by every test process and the subprocesses
+# they start, for the report at the end of the run (which structures cost what).
+os.environ.setdefault(
+    "BRISTLECRAWLER_PROGRAM_LOG", os.path.join(os.environ["BRISTLECRAWLER_JAX_CACHE"], "log.jsonl")
+)
 
 settings.register_profile(
     "ci", max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow]
@@ -107,7 +112,42 @@ SLOW_TEST_S = 10.0
 _unmarked_slow: dict[str, float] = {}
 
 
+#: Seconds JAX spent tracing, lowering and compiling (XLA) in this process so far, from its
+#: monitoring events; each test's share travels with its reports to the controller.
+_JAX_EVENTS = {
+    "/jax/core/compile/jaxpr_trace_duration": "trace",
+    "/jax/core/compile/jaxpr_to_mlir_module_duration": "lower",
+    "/jax/core/compile/backend_compile_duration": "compile",
+}
+_compiling = {"trace": 0.0, "lower": 0.0, "compile": 0.0, "reported": 0.0}
+_compile_by_file: dict[str, list[float]] = {}
+
+
+def _on_jax_event(event, duration, **kwargs):
+    kind = _JAX_EVENTS.get(event)
+    if kind is not None:
+        _compiling[kind] += duration
+
+
+def pytest_configure(config):
+    import jax.monitoring
+
+    jax.monitoring.register_event_duration_secs_listener(_on_jax_event)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    spent = _compiling["trace"] + _compiling["lower"] + _compiling["compile"]
+    outcome.get_result().user_properties.append(("jax_compile_s", spent - _compiling["reported"]))
+    _compiling["reported"] = spent
+
+
 def pytest_runtest_logreport(report):
+    compiling = dict(report.user_properties).get("jax_compile_s", 0.0)
+    totals = _compile_by_file.setdefault(report.nodeid.split("::")[0], [0.0, 0.0])
+    totals[0] += report.duration
+    totals[1] += compiling
     if "slow" in report.keywords:
         return
     _unmarked_slow[report.nodeid] = _unmarked_slow.get(report.nodeid, 0.0) + report.duration
@@ -120,8 +160,47 @@ def pytest_terminal_summary(terminalreporter):
             f"modules (bound {KEEP_PROGRAMS_MB:.0f} MB resident); largest resident memory "
             f"after a module {_memory['peak_mb']:.0f} MB"
         )
+    _program_report(terminalreporter)
+    _compile_report(terminalreporter)
     slow = sorted(((t, n) for n, t in _unmarked_slow.items() if t > SLOW_TEST_S), reverse=True)
     if slow:
         terminalreporter.section("unmarked tests over 10 s (mark them slow)")
         for t, n in slow:
             terminalreporter.write_line(f"{t:7.1f} s  {n}")
+
+
+def _program_report(terminalreporter) -> None:
+    """The stored programs the run compiled and loaded (from the program log), the
+    costliest first: each distinct structure a test builds compiles its own."""
+    import json
+    from collections import defaultdict
+
+    try:
+        with open(os.environ["BRISTLECRAWLER_PROGRAM_LOG"]) as f:
+            lines = [json.loads(x) for x in f if x.strip()]
+    except (OSError, KeyError, ValueError):
+        return
+    total = defaultdict(lambda: [0, 0.0])
+    for x in lines:
+        total[x["program"], x["event"]][0] += 1
+        total[x["program"], x["event"]][1] += x["seconds"]
+    terminalreporter.section("stored FE programs: compiled and loaded")
+    for (program, event), (n, s) in sorted(total.items(), key=lambda kv: -kv[1][1]):
+        terminalreporter.write_line(f"{s:8.1f} s  {n:4d} x {event:8s} {program}")
+
+
+def _compile_report(terminalreporter, rows: int = 15) -> None:
+    """How much of the test time was JAX tracing, lowering and compiling, over the whole
+    run and for the modules that spent the most (compiles in threads can add up to more
+    than a test's wall time; subprocesses are not counted)."""
+    if not _compile_by_file:
+        return
+    wall = sum(t for t, _ in _compile_by_file.values())
+    spent = sum(c for _, c in _compile_by_file.values())
+    terminalreporter.section("JAX tracing and compiling, by module")
+    terminalreporter.write_line(
+        f"{spent:8.1f} s compiling (summed over threads) in tests that took {wall:.1f} s"
+    )
+    worst = sorted(_compile_by_file.items(), key=lambda kv: -kv[1][1])[:rows]
+    for path, (t, c) in worst:
+        terminalreporter.write_line(f"{c:8.1f} s of {t:7.1f} s  {path}")

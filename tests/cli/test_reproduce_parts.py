@@ -1,6 +1,6 @@
 """The parts of ``bristlecrawler reproduce`` one at a time, the FE parts on the shared coarse
 structure (``tests/structures.py``), then the table and the report built from them. The
-end-to-end ``reproduce --quick`` run (the paper's stroke at 6 elements, the drag test, the
+end-to-end ``reproduce --quick`` run (one cycle of the paper's crawler, the drag test, the
 design study) is ``test_reproduce_cli.py``'s, in the slow lane."""
 
 import dataclasses

@@ -2,6 +2,7 @@
 loaded program computes what the compiled one does, and a bad entry or folder is never
 used."""
 
+import json
 import os
 import subprocess
 import sys
@@ -110,15 +111,49 @@ def test_digest_is_the_same_in_another_process():
 
 @pytest.mark.slow
 def test_a_second_process_loads_the_program_and_gets_the_same_numbers(tmp_path):
-    first, _ = _run(tmp_path)
+    log = tmp_path / "programs.jsonl"
+    first, _ = _run(tmp_path, {"BRISTLECRAWLER_PROGRAM_LOG": str(log)})
     entries = list((tmp_path / "programs").glob("*.bin"))
     assert len(entries) == 1
     stamp = entries[0].stat().st_mtime_ns
-    second, _ = _run(tmp_path)
+    second, _ = _run(tmp_path, {"BRISTLECRAWLER_PROGRAM_LOG": str(log)})
     assert second == first
     assert entries[0].stat().st_mtime_ns == stamp  # loaded, not written again
+    lines = [json.loads(x) for x in log.read_text().splitlines()]
+    assert [(x["program"], x["event"]) for x in lines] == [
+        ("tests.solve", "compile"),
+        ("tests.solve", "load"),
+    ]
+    assert lines[0]["entry"] == lines[1]["entry"] == entries[0].stem[:12]
+    assert lines[0]["pid"] != lines[1]["pid"] and all(x["seconds"] >= 0 for x in lines)
     x = np.linalg.solve(2.0 * (np.arange(16.0).reshape(4, 4) + 10.0 * np.eye(4)), np.arange(4.0))
     assert first.startswith(repr(x.tolist()))
+
+
+@pytest.mark.slow
+def test_a_process_waits_for_another_compiling_the_same_program_then_loads_it(tmp_path):
+    """While one process holds an entry's lock (compiling it), another that needs the same
+    program waits instead of compiling it a second time; it compiles only once the lock
+    is released without an entry (here), and loads where the entry was written."""
+    _run(tmp_path / "first")
+    (entry,) = (tmp_path / "first" / "programs").glob("*.bin")
+    folder, log = tmp_path / "second", tmp_path / "log.jsonl"
+    env = dict(os.environ, BRISTLECRAWLER_JAX_CACHE=str(folder))
+    env["BRISTLECRAWLER_PROGRAM_LOG"] = str(log)
+    env.pop("BRISTLECRAWLER_NO_JAX_CACHE", None)
+    with programs._entry_lock(folder / "programs" / entry.name):
+        child = subprocess.Popen(
+            [sys.executable, "-c", PROGRAM], env=env, stdout=subprocess.PIPE, text=True
+        )
+        try:
+            child.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            pass
+        assert child.poll() is None and not log.exists()  # waiting, nothing compiled
+    assert child.wait(timeout=120) == 0
+    assert [json.loads(x)["event"] for x in log.read_text().splitlines()] == ["compile"]
+    _run(folder, {"BRISTLECRAWLER_PROGRAM_LOG": str(log)})
+    assert [json.loads(x)["event"] for x in log.read_text().splitlines()] == ["compile", "load"]
 
 
 # The same kind of program with JAX's persistent cache on (as the CLI has it).

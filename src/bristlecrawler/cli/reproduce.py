@@ -18,8 +18,8 @@ def reproduce_cmd(
         bool,
         typer.Option(
             "--quick",
-            help="the short version: one FE cycle, 6 elements per "
-            "bristle, one starting place at alpha = 0, a reduced-only design study",
+            help="the short version: one FE cycle, one starting place at alpha = 0, "
+            "4 mm drag legs, a reduced-only design study",
         ),
     ] = False,
     as_json: Annotated[

@@ -24,14 +24,17 @@ off with the rest of the cache.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import enum
 import functools
 import hashlib
+import json
 import os
 import pickle
 import sys
 import threading
+import time
 import types
 import warnings
 import weakref
@@ -239,18 +242,88 @@ class StoredProgram:
 
     def _load_or_compile(self, sig, args):
         path = self.path(sig)
+        start = time.perf_counter()
         exe = _read(path)
-        if exe is not None:
-            return exe
+        if exe is None:
+            # Processes that need the same program (the workers of a sweep, the test
+            # processes) compile it once: the others wait for the entry and load it.
+            with _entry_lock(path):
+                exe = _read(path)
+                if exe is None:
+                    return self._compile(path, args, start)
+        _log(self, path, "load", start)
+        return exe
+
+    def _compile(self, path: Path, args, start: float):
         if not _bypass_jax_cache() and jax.config.jax_compilation_cache_dir:
-            return self.fn.lower(*args).compile()  # cannot compile afresh: store nothing
+            exe = self.fn.lower(*args).compile()  # cannot compile afresh: store nothing
+            _log(self, path, "compile", start)
+            return exe
         _FRESH.on = True
         try:
             exe = self.fn.lower(*args).compile()
         finally:
             _FRESH.on = False
+        _log(self, path, "compile", start)
         _write(path, exe, self.name)
         return exe
+
+
+#: How long a process waits for another one compiling the same program before it compiles
+#: the program itself (s): a compile takes minutes on a busy machine, never hours.
+LOCK_WAIT_S = 1800.0
+
+
+@contextlib.contextmanager
+def _entry_lock(path: Path):
+    """Hold an exclusive lock on ``path``'s entry while it is compiled and written (an
+    advisory ``flock`` on a file beside it; the system releases it when a process dies).
+    Where the folder cannot hold the lock file or the system has no ``flock``, or after
+    :data:`LOCK_WAIT_S`, go on without it: the worst case is a program compiled twice."""
+    try:
+        import fcntl
+
+        path.parent.mkdir(parents=True, exist_ok=True)
+        f = open(path.with_suffix(".lock"), "a+b")  # closed below
+    except (ImportError, OSError):
+        yield
+        return
+    try:
+        deadline = time.monotonic() + LOCK_WAIT_S
+        locked = False
+        while not locked and time.monotonic() < deadline:
+            try:
+                fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                locked = True
+            except BlockingIOError:
+                time.sleep(0.2)
+            except OSError:
+                break
+        yield
+    finally:
+        f.close()  # releases the lock
+
+
+def _log(program: StoredProgram, path: Path, event: str, start: float) -> None:
+    """One JSON line per load or compile in the file ``BRISTLECRAWLER_PROGRAM_LOG`` names
+    (unset: nothing): which program, which entry, how long, in which process. It tells
+    where a cold start's time goes and which structures a set of runs compiled."""
+    target = os.environ.get("BRISTLECRAWLER_PROGRAM_LOG")
+    if not target:
+        return
+    line = {
+        "program": program.name,
+        "entry": path.stem[:12],
+        "event": event,
+        "seconds": round(time.perf_counter() - start, 3),
+        "pid": os.getpid(),
+        "time": time.time(),
+    }
+    try:
+        with open(target, "a") as f:  # one short write per line: appends do not interleave
+            f.write(json.dumps(line) + "\n")
+    except OSError:
+        _warn_once("log", f"program log {target} not writable")
 
 
 #: Set in a thread while it compiles a program to store.

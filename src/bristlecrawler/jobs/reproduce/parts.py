@@ -26,7 +26,7 @@ class Settings:
     """How much to compute. ``quick`` trades resolution for time (the tests use it).
 
     Attributes:
-        quick: the short version (fewer cycles, a coarser mesh, fewer starting places).
+        quick: the short version (fewer cycles, fewer starting places, shorter drag legs).
         fe_cycles: cycles of the FE crawler at alpha = pi/4.
         elements: beam elements per bristle (the paper's scenario has 20).
         vertical_phases: starting places of the tips on the texture at alpha = 0, evenly
@@ -52,11 +52,15 @@ class Settings:
 
     @classmethod
     def short(cls) -> Settings:
-        """The ``--quick`` settings: about a minute of solving on two cores."""
+        """The ``--quick`` settings: one cycle, one starting place at alpha = 0, 4 mm drag
+        legs. The mesh is the full run's (20 elements per bristle), so that the quick run
+        compiles the programs the full run and ``simulate paper`` use and the full run
+        loads them; at 6 elements it compiled as long, and its one cycle at alpha = 0
+        advanced 7.5 mm against 1.5 mm at 20."""
         return cls(
             quick=True,
             fe_cycles=1,
-            elements=6,
+            elements=20,
             vertical_phases=1,
             drag_distance=4.0,
             study_fe=False,

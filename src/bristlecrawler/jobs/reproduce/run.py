@@ -108,10 +108,7 @@ FULL_REFERENCE = (
     "a full run took 42 min (16 min of CPU time) on a busy 2-core machine, with four "
     "starting places at alpha = 0 instead of eight"
 )
-QUICK_REFERENCE = (
-    "--quick took 264 s on a quiet 2-core machine and 21 min on one shared with three "
-    "other users, with an empty compilation cache"
-)
+QUICK_REFERENCE = "--quick took 356 s on a quiet 2-core machine with an empty compilation cache"
 
 
 def _cost_key(part: Part, settings: Settings) -> str:
@@ -151,7 +148,7 @@ def _run_parts(opts: ReproduceOptions, ctx: Context, costs: dict[str, float], me
 
 def _header(info, settings: Settings, ctx: Context) -> tuple[str, ...]:
     mode = (
-        "`--quick` (fewer cycles, a coarser mesh, fewer starting places)"
+        "`--quick` (fewer cycles, fewer starting places, shorter drag legs)"
         if settings.quick
         else "full"
     )
