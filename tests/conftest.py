@@ -23,10 +23,12 @@ if "BRISTLECRAWLER_JAX_CACHE" not in os.environ:
     atexit.register(shutil.rmtree, _cache, ignore_errors=True)
 os.environ.setdefault("BRISTLECRAWLER_XLA_CACHE", "0")
 # Every load and compile of a stored program, by every test process and the subprocesses
-# they start, for the report at the end of the run (which structures cost what).
-os.environ.setdefault(
-    "BRISTLECRAWLER_PROGRAM_LOG", os.path.join(os.environ["BRISTLECRAWLER_JAX_CACHE"], "log.jsonl")
-)
+# they start, in a file of this run's own, for the report at its end (which structures cost
+# what).
+if "BRISTLECRAWLER_PROGRAM_LOG" not in os.environ:
+    _log = tempfile.mkdtemp(prefix="bristlecrawler-test-log-")
+    os.environ["BRISTLECRAWLER_PROGRAM_LOG"] = os.path.join(_log, "programs.jsonl")
+    atexit.register(shutil.rmtree, _log, ignore_errors=True)
 
 settings.register_profile(
     "ci", max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow]
@@ -114,19 +116,20 @@ _unmarked_slow: dict[str, float] = {}
 
 #: Seconds JAX spent tracing, lowering and compiling (XLA) in this process so far, from its
 #: monitoring events; each test's share travels with its reports to the controller.
-_JAX_EVENTS = {
-    "/jax/core/compile/jaxpr_trace_duration": "trace",
-    "/jax/core/compile/jaxpr_to_mlir_module_duration": "lower",
-    "/jax/core/compile/backend_compile_duration": "compile",
-}
-_compiling = {"trace": 0.0, "lower": 0.0, "compile": 0.0, "reported": 0.0}
+_JAX_EVENTS = frozenset(
+    {
+        "/jax/core/compile/jaxpr_trace_duration",
+        "/jax/core/compile/jaxpr_to_mlir_module_duration",
+        "/jax/core/compile/backend_compile_duration",
+    }
+)
+_compiling = {"spent": 0.0, "reported": 0.0}
 _compile_by_file: dict[str, list[float]] = {}
 
 
 def _on_jax_event(event, duration, **kwargs):
-    kind = _JAX_EVENTS.get(event)
-    if kind is not None:
-        _compiling[kind] += duration
+    if event in _JAX_EVENTS:
+        _compiling["spent"] += duration
 
 
 def pytest_configure(config):
@@ -138,7 +141,7 @@ def pytest_configure(config):
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     outcome = yield
-    spent = _compiling["trace"] + _compiling["lower"] + _compiling["compile"]
+    spent = _compiling["spent"]
     outcome.get_result().user_properties.append(("jax_compile_s", spent - _compiling["reported"]))
     _compiling["reported"] = spent
 

@@ -255,17 +255,17 @@ class StoredProgram:
         return exe
 
     def _compile(self, path: Path, args, start: float):
-        if not _bypass_jax_cache() and jax.config.jax_compilation_cache_dir:
-            exe = self.fn.lower(*args).compile()  # cannot compile afresh: store nothing
-            _log(self, path, "compile", start)
-            return exe
-        _FRESH.on = True
+        # Where JAX's cache is on and cannot be bypassed, its executable would not load in
+        # another process: compile and store nothing.
+        fresh = _bypass_jax_cache() or not jax.config.jax_compilation_cache_dir
+        _FRESH.on = fresh
         try:
             exe = self.fn.lower(*args).compile()
         finally:
             _FRESH.on = False
         _log(self, path, "compile", start)
-        _write(path, exe, self.name)
+        if fresh:
+            _write(path, exe, self.name)
         return exe
 
 
