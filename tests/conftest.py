@@ -190,6 +190,14 @@ def _program_report(terminalreporter) -> None:
     terminalreporter.section("stored FE programs: compiled and loaded")
     for (program, event), (n, s) in sorted(total.items(), key=lambda kv: -kv[1][1]):
         terminalreporter.write_line(f"{s:8.1f} s  {n:4d} x {event:8s} {program}")
+    # One step program per structure: the tests that compiled one are where sharing a
+    # structure would save the most.
+    steps = [x for x in lines if x["event"] == "compile" and x["program"].endswith("make_step")]
+    if steps:
+        terminalreporter.section("step programs compiled (one per structure), by test")
+        for x in sorted(steps, key=lambda x: x.get("test", "")):
+            where = x.get("test", f"pid {x['pid']}")
+            terminalreporter.write_line(f"{x['seconds']:8.1f} s  {x['entry']}  {where}")
 
 
 def _compile_report(terminalreporter, rows: int = 15) -> None:

@@ -1,9 +1,10 @@
 """The FE structures the tests share, so that each is compiled once per test process.
 
 Compiling a structure (the number of bristles and their elements, the contact options, the
-stroke, the solver's settings) costs about a minute on a 2-core machine; the values in its
-parameters (the bristles' inclination, the friction coefficient, the substrate's phase and
-pitch, the stick penalty, the step bounds) do not. A test that needs an FE run takes one of
+stroke's form, the solver's settings) costs about a minute on a 2-core machine; the values in
+its parameters (the bristles' inclination, the friction coefficient, the substrate's phase
+and pitch, the stick penalty, the step bounds, the stroke's amplitude, period and cycles) do
+not. A test that needs an FE run takes one of
 the structures below and changes values, and the compiled programs are loaded from the test
 process's cache folder in every later module (``tests/conftest.py``).
 

@@ -32,12 +32,19 @@ def base():
     return coarse_spec("paper")
 
 
-def design(alpha_deg=45.0, mu=0.65):
+def design(alpha_deg=45.0, mu=0.65, stroke=None):
+    """The coarse crawler at ``alpha_deg`` and ``mu``; ``stroke`` (s_max mm, period s)
+    replaces its stroke."""
     spec = base().replace_bristles(alpha_deg=alpha_deg)
-    return dataclasses.replace(spec, contact=dataclasses.replace(spec.contact, mu=mu))
+    a = spec.actuation
+    if stroke is not None:
+        a = dataclasses.replace(a, s_max=stroke[0], period=stroke[1])
+    return dataclasses.replace(spec, contact=dataclasses.replace(spec.contact, mu=mu), actuation=a)
 
 
-DESIGNS = ((45.0, 0.65), (30.0, 0.65), (45.0, 0.3))
+#: The third design's stroke is shorter and slower: the stroke is a value of the programs,
+#: and a design's stages end at its own times.
+DESIGNS = ((45.0, 0.65), (30.0, 0.65), (45.0, 0.3, (0.6, 0.5)))
 
 
 @functools.cache
@@ -167,8 +174,21 @@ def test_bad_batches_are_refused_before_any_work(call, message):
 
 def test_designs_are_grouped_by_structure():
     a, b = base(), base().replace_bristles(elements=6)
-    tilted = design(30.0, 0.3)
+    tilted = design(30.0, 0.3, (2.0, 1.0))
     assert group([a, b, tilted, a, b], 2) == [[0, 2], [3], [1, 4]]
+
+
+def test_a_sampled_stroke_is_another_structure_and_its_samples_values():
+    def sampled(*s):
+        t = tuple(0.1 * i for i in range(len(s)))
+        a = dataclasses.replace(base().actuation, history=(t, s))
+        return dataclasses.replace(base(), actuation=a)
+
+    with pytest.raises(InputError, match="stroke form differs: sin"):
+        run_batch([base(), sampled(0.0, 0.4, 0.0)])
+    with pytest.raises(InputError, match="3 samples vs sampled history of 4 samples"):
+        run_batch([sampled(0.0, 0.4, 0.0), sampled(0.0, 0.2, 0.4, 0.0)])
+    assert group([sampled(0.0, 0.4, 0.0), sampled(0.0, 0.6, 0.0), base()], 2) == [[0, 1], [2]]
 
 
 @pytest.mark.slow
@@ -187,7 +207,11 @@ def test_a_sweep_worker_runs_a_batch_and_reports_each_design():
         if k.startswith(("actuation", "solver"))
     }
     short = short | numbers | {"bristle.elements": 4}
-    designs = [{"bristle.alpha_deg": 30.0}, {"solver.dt_min": 0.02}, {"contact.mu": 0.3}]
+    designs = [
+        {"bristle.alpha_deg": 30.0},
+        {"solver.dt_min": 0.02},
+        {"contact.mu": 0.3, "actuation.s_max": 0.6, "actuation.period": 0.5},
+    ]
     res = fe_batch_task(base_config, [short | d for d in designs], 3)
     np.testing.assert_array_equal(
         res["status"], [DesignStatus.DONE, DesignStatus.FAILED, DesignStatus.DONE]

@@ -4,10 +4,11 @@ are values in their parameters.
 Designs that differ only in values run in one compiled program, side by side
 (:func:`crawler.run_batch`): the bristles' inclination (their reference coordinates),
 sections and materials, the friction coefficient, the body's mass, the substrate's
-dimensions where the corner contact is off, the damping ratio, the step bounds. The
-structure is the number of bristles and their elements, the contact options, the
-actuation (its stroke functions are compiled in), the solver's settings and the
-substrate's kind.
+dimensions where the corner contact is off, the damping ratio, the step bounds, the
+stroke (its amplitude, period, cycles, delays and gait; a sampled history's values). The
+structure is the number of bristles and their elements, the contact options, the form of
+the stroke (sin^2, or a sampled history and its number of samples), the solver's settings
+and the substrate's kind.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ STRUCTURE_KEYS = (
     "contact.active_points",
     "contact.penetration_limit",
     "damping.kind",
-    "actuation.",
+    "stroke form",
     "solver.hht_alpha",
     "solver.tolerance",
     "solver.max_iterations",
@@ -56,6 +57,12 @@ def _plain(v):
     return v
 
 
+def _stroke_form(a) -> str:
+    if a.history is None:
+        return "sin^2"
+    return f"sampled history of {len(a.history[0])} samples"
+
+
 def spec_fields(spec: CrawlerSpec) -> dict[str, object]:
     """The spec as flat ``group.field`` keys; a bristle field is one value when every
     bristle has it, else the tuple of the bristles' values."""
@@ -63,6 +70,7 @@ def spec_fields(spec: CrawlerSpec) -> dict[str, object]:
         "bristle count": len(spec.bristles),
         "substrate kind": type(spec.substrate).__name__,
         "gravity": spec.gravity,
+        "stroke form": _stroke_form(spec.actuation),
     }
     for group in ("body", "contact", "damping", "actuation", "solver"):
         obj = getattr(spec, group)

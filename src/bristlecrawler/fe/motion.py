@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -126,9 +127,16 @@ class TimeFunction:
 
 
 def as_motion(value) -> object:
-    """A number becomes :class:`Constant`; a motion is returned as is; a callable is wrapped."""
+    """A number becomes :class:`Constant`; a motion is returned as is; a callable is wrapped.
+
+    A callable registered as a PyTree with leaves (such as the crawler's strokes) is a
+    motion already: its numbers stay parameters of the compiled programs, so motions that
+    differ only in them share one program. Wrapping it in :class:`TimeFunction` would
+    compile them in."""
     if isinstance(value, Constant | Sin2 | Ramp | SmoothRamp | Sine | Piecewise | TimeFunction):
         return value
     if callable(value):
+        if not jax.tree_util.treedef_is_leaf(jax.tree_util.tree_structure(value)):
+            return value
         return TimeFunction(value)
     return Constant(float(value))

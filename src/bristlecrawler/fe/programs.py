@@ -307,7 +307,8 @@ def _entry_lock(path: Path):
 def _log(program: StoredProgram, path: Path, event: str, start: float) -> None:
     """One JSON line per load or compile in the file ``BRISTLECRAWLER_PROGRAM_LOG`` names
     (unset: nothing): which program, which entry, how long, in which process. It tells
-    where a cold start's time goes and which structures a set of runs compiled."""
+    where a cold start's time goes and which structures a set of runs compiled. Under
+    pytest the line also names the test that asked for the program."""
     target = os.environ.get("BRISTLECRAWLER_PROGRAM_LOG")
     if not target:
         return
@@ -319,6 +320,8 @@ def _log(program: StoredProgram, path: Path, event: str, start: float) -> None:
         "pid": os.getpid(),
         "time": time.time(),
     }
+    if "PYTEST_CURRENT_TEST" in os.environ:
+        line["test"] = os.environ["PYTEST_CURRENT_TEST"].rsplit(" (", 1)[0]
     try:
         with open(target, "a") as f:  # one short write per line: appends do not interleave
             f.write(json.dumps(line) + "\n")

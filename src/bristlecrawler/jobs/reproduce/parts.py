@@ -53,11 +53,9 @@ class Settings:
     @classmethod
     def short(cls) -> Settings:
         """The ``--quick`` settings: one cycle, one starting place at alpha = 0, 4 mm drag
-        legs, on the full run's mesh (20 elements per bristle): its drag test is the full
-        run's program (the drag's path is a value) and its crawler that of
-        ``simulate paper --cycles 1`` (the stroke, cycles included, is compiled into the
-        crawler's program). At 6 elements it compiled about as long, and its one cycle at
-        alpha = 0 advanced 7.5 mm against 1.5 mm at 20."""
+        legs, on the full run's mesh (20 elements per bristle), so its programs are the full
+        run's (the drag's path and the stroke are values of them). At 6 elements it compiled
+        about as long, and its one cycle at alpha = 0 advanced 7.5 mm against 1.5 mm at 20."""
         return cls(
             quick=True,
             fe_cycles=1,
