@@ -7,11 +7,12 @@ import subprocess
 import sys
 import tempfile
 
-#: XLA's CPU fusion emitters off: the suite's programs compile a quarter to a third faster
-#: (the coarse crawler's five programs 26 s against 36 s; a dense corner-term Jacobian 5.2 s
-#: against 7.9 s) and step a quarter slower, a good trade for short runs. Results move by
-#: round-off only (the paper run: 81.6028 mm either way). Used where this jaxlib knows the
-#: flag and XLA_FLAGS is not already set; XLA aborts on a flag it does not know.
+#: XLA's CPU fusion emitters off: the suite's small programs compile a quarter to a third
+#: faster (the coarse crawler's five programs 26 s against 36 s; a dense corner-term
+#: Jacobian 5.2 s against 7.9 s), a good trade for short runs; the paper crawler's step
+#: compiles no faster and runs slower (docs/performance.md). Results move by round-off only.
+#: Used where this jaxlib knows the flag and XLA_FLAGS is not already set; XLA aborts on a
+#: flag it does not know.
 TEST_XLA_FLAGS = "--xla_cpu_use_fusion_emitters=false"
 
 
@@ -35,10 +36,11 @@ from hypothesis import HealthCheck, settings  # noqa: E402
 
 from bristlecrawler.cli.app import main  # noqa: E402
 
-# The FE programs are stored in a cache folder of this test process's own (each xdist
-# worker has one; the subprocesses and Dask workers a test starts share it: the stored
-# programs are written atomically), so that a module that builds a structure an earlier
-# one built loads its programs instead of tracing and compiling them again. JAX's own
+# The FE programs are stored in a cache folder of this run's own (set before the xdist
+# workers start, so they, the subprocesses and the Dask workers the tests start share it:
+# the stored programs are written atomically under a lock), so that a module that builds a
+# structure an earlier one built loads its programs instead of tracing and compiling them
+# again. JAX's own
 # persistent cache stays off: its entries are written in place, and a run of the suite
 # once crashed reading one that another process was writing. Setting
 # BRISTLECRAWLER_JAX_CACHE (or BRISTLECRAWLER_NO_JAX_CACHE=1) overrides.
@@ -217,9 +219,10 @@ def _program_report(terminalreporter) -> None:
         terminalreporter.write_line(f"{s:8.1f} s  {n:4d} x {event:8s} {program}")
     # One step program per structure: the tests that compiled one are where sharing a
     # structure would save the most.
-    steps = [x for x in lines if x["event"] == "compile" and x["program"].endswith("make_step")]
+    stepping = ("make_step", "make_driver")
+    steps = [x for x in lines if x["event"] == "compile" and x["program"].endswith(stepping)]
     if steps:
-        terminalreporter.section("step programs compiled (one per structure), by test")
+        terminalreporter.section("stored step programs compiled, by test")
         for x in sorted(steps, key=lambda x: x.get("test", "")):
             where = x.get("test", f"pid {x['pid']}")
             terminalreporter.write_line(f"{x['seconds']:8.1f} s  {x['entry']}  {where}")

@@ -1,12 +1,12 @@
-"""The FE structures the tests share, so that each is compiled once per test process.
+"""The FE structures the tests share, so that each is compiled once per run of the suite.
 
 Compiling a structure (the number of bristles and their elements, the contact options, the
-stroke's form, the solver's settings) costs about a minute on a 2-core machine; the values in
-its parameters (the bristles' inclination, the friction coefficient, the substrate's phase
-and pitch, the stick penalty, the step bounds, the stroke's amplitude, period and cycles) do
-not. A test that needs an FE run takes one of
-the structures below and changes values, and the compiled programs are loaded from the test
-process's cache folder in every later module (``tests/conftest.py``).
+stroke's form, the solver's settings) costs about a minute on a 2-core machine; the values
+in its parameters (the bristles' inclination, the friction coefficient, the substrate's
+phase and pitch, the stick penalty, the step bounds, the stroke's amplitude, period and
+cycles) do not. A test that needs an FE run takes one of the structures below and changes
+values, and the compiled programs are loaded from the run's cache folder in every later
+module (``tests/conftest.py``).
 
 * :data:`COARSE`: the paper's crawler at 4 elements per bristle, contact at the tips, a
   0.8 mm stroke in 0.4 s (``coarse_scenario``); the fast lane's one FE structure.

@@ -178,7 +178,7 @@ def test_designs_are_grouped_by_structure():
     assert group([a, b, tilted, a, b], 2) == [[0, 2], [3], [1, 4]]
 
 
-def test_a_sampled_stroke_is_another_structure_and_its_samples_values():
+def test_a_sampled_stroke_is_another_structure_and_its_samples_are_values():
     def sampled(*s):
         t = tuple(0.1 * i for i in range(len(s)))
         a = dataclasses.replace(base().actuation, history=(t, s))

@@ -126,17 +126,22 @@ class TimeFunction:
         return jnp.asarray(self.fn(t), dtype=jnp.float64)
 
 
+def _numeric(x) -> bool:
+    return isinstance(x, int | float | np.ndarray | jax.Array | np.number)
+
+
 def as_motion(value) -> object:
     """A number becomes :class:`Constant`; a motion is returned as is; a callable is wrapped.
 
-    A callable registered as a PyTree with leaves (such as the crawler's strokes) is a
-    motion already: its numbers stay parameters of the compiled programs, so motions that
-    differ only in them share one program. Wrapping it in :class:`TimeFunction` would
-    compile them in."""
+    A callable registered as a PyTree whose leaves are all numbers (such as the crawler's
+    strokes) is a motion already: its numbers stay parameters of the compiled programs,
+    so motions that differ only in them share one program. Wrapping it in
+    :class:`TimeFunction` would compile them in."""
     if isinstance(value, Constant | Sin2 | Ramp | SmoothRamp | Sine | Piecewise | TimeFunction):
         return value
     if callable(value):
-        if not jax.tree_util.treedef_is_leaf(jax.tree_util.tree_structure(value)):
+        leaves = jax.tree_util.tree_leaves(value)
+        if leaves and all(_numeric(x) for x in leaves):
             return value
         return TimeFunction(value)
     return Constant(float(value))
