@@ -40,9 +40,8 @@ from bristlecrawler.cli.app import main  # noqa: E402
 # workers start, so they, the subprocesses and the Dask workers the tests start share it:
 # the stored programs are written atomically under a lock), so that a module that builds a
 # structure an earlier one built loads its programs instead of tracing and compiling them
-# again. JAX's own
-# persistent cache stays off: its entries are written in place, and a run of the suite
-# once crashed reading one that another process was writing. Setting
+# again. JAX's own persistent cache stays off: its entries are written in place, and a run
+# of the suite once crashed reading one that another process was writing. Setting
 # BRISTLECRAWLER_JAX_CACHE (or BRISTLECRAWLER_NO_JAX_CACHE=1) overrides.
 if "BRISTLECRAWLER_JAX_CACHE" not in os.environ:
     _cache = tempfile.mkdtemp(prefix="bristlecrawler-test-cache-")
