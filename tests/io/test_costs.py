@@ -49,6 +49,11 @@ def test_the_compile_line_says_first_time_then_loading(monkeypatch):
     assert again.startswith("loading the FE programs") and "about 75 s" in again
     # A drag test builds other programs: its first time is still a first time.
     assert "first time only" in estimates.compile_note(spec, "drag")
+    # Another version of the package (or other XLA flags) stores other programs.
+    from bristlecrawler.fe import programs
+
+    monkeypatch.setattr(programs, "environment", lambda: "another version")
+    assert "first time only" in estimates.compile_note(spec)
     monkeypatch.setenv("BRISTLECRAWLER_NO_JAX_CACHE", "1")
     assert "every run compiles" in estimates.compile_note(spec)
 

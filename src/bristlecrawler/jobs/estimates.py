@@ -26,11 +26,14 @@ def _cache_off() -> bool:
 
 def compile_key(spec, what: str = "crawler") -> str:
     """Equal for runs that compile the same programs (``what``: ``crawler`` or ``drag``,
-    the model built from ``spec``) into the same cache."""
+    the model built from ``spec``) into the same cache. The stored programs' environment
+    (the package's source, jax, the XLA flags) is part of it: after an upgrade the cache
+    holds none of them, and the note must not promise a load."""
     from bristlecrawler.crawler.structure import structure_key
+    from bristlecrawler.fe.programs import environment
 
     cache = os.environ.get("BRISTLECRAWLER_JAX_CACHE", "")
-    return digest([what, structure_key(spec), cache])
+    return digest([what, structure_key(spec), cache, environment()])
 
 
 def compile_note(spec, what: str = "crawler") -> str:
