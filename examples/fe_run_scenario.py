@@ -2,8 +2,9 @@
 
 The inclined bristles (alpha = 45 deg, the ``paper`` scenario) make the crawler advance
 along the grain; the same crawler with vertical bristles (the ``paper-vertical``
-scenario) on a texture placed mirror-symmetrically under it has no preferred direction
-and does not crawl.
+scenario) on a texture placed mirror-symmetrically under it has no preferred direction:
+round-off decides whether a bowing bristle lets a tip slip into the next groove, so it
+stays or shifts by one pitch (2 mm), either way.
 
 To keep this example quick (seconds after a one-off compilation), both runs are one
 8 mm stroke in 4 s of the paper's crawler, its mesh and contact unchanged. A coarser

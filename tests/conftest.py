@@ -7,13 +7,14 @@ import subprocess
 import sys
 import tempfile
 
-#: XLA's CPU fusion emitters off: the suite's small programs compile a quarter to a third
-#: faster (the coarse crawler's five programs 26 s against 36 s; a dense corner-term
-#: Jacobian 5.2 s against 7.9 s), a good trade for short runs; the paper crawler's step
-#: compiles no faster and runs slower (docs/performance.md). Results move by round-off only.
-#: Used where this jaxlib knows the flag and XLA_FLAGS is not already set; XLA aborts on a
-#: flag it does not know.
-TEST_XLA_FLAGS = "--xla_cpu_use_fusion_emitters=false"
+#: XLA's CPU fusion emitters off and LLVM's optimisation at level 0: the suite is mostly
+#: compilation of programs that then run a few steps. Level 0 halves a program's compile
+#: time and makes its steps 2-3 times slower; the fusion emitters off take a quarter to a
+#: third off the small programs' compile times (docs/performance.md#compilation). The whole
+#: suite on both cores: 843 s with XLA's defaults for LLVM, 615 s at level 0. Results
+#: move by round-off only. Used where this jaxlib knows the flags and XLA_FLAGS is not
+#: already set; XLA aborts on a flag it does not know.
+TEST_XLA_FLAGS = "--xla_cpu_use_fusion_emitters=false --xla_backend_optimization_level=0"
 
 
 def _xla_accepts(flags: str) -> bool:
