@@ -33,7 +33,7 @@ def run_scenario():
 
 
 @pytest.mark.slow
-def test_inclined_bristles_advance_and_vertical_ones_on_a_mirror_texture_do_not(run_scenario):
+def test_inclined_bristles_advance_and_vertical_ones_shift_by_whole_pitches(run_scenario):
     """alpha = 0 on grooves placed symmetrically under the crawler has no preferred
     direction (it shifts by a whole pitch, one way or the other, or stays); alpha = 45
     deg breaks the symmetry and crawls."""
