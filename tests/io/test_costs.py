@@ -1,5 +1,7 @@
 """The measured costs behind the estimates long commands print before they start."""
 
+import dataclasses
+
 import pytest
 
 from bristlecrawler.io import costs
@@ -49,6 +51,14 @@ def test_the_compile_line_says_first_time_then_loading(monkeypatch):
     assert again.startswith("loading the FE programs") and "about 75 s" in again
     # A drag test builds other programs: its first time is still a first time.
     assert "first time only" in estimates.compile_note(spec, "drag")
+    # The drag rig's programs do not hold the crawler's stroke: a sampled one loads them.
+    estimates.record_compile(spec, 40.0, "drag")
+    history = ((0.0, 1.0, 2.0), (0.0, 1.0, 0.0))
+    sampled = dataclasses.replace(
+        spec, actuation=dataclasses.replace(spec.actuation, history=history)
+    )
+    assert estimates.compile_note(sampled, "drag").startswith("loading the FE programs")
+    assert "first time only" in estimates.compile_note(sampled)
     # Another version of the package (or other XLA flags) stores other programs.
     from bristlecrawler.fe import programs
 

@@ -107,7 +107,9 @@ def check_one_structure(specs) -> None:
                 )
 
 
-def structure_key(spec: CrawlerSpec) -> str:
-    """A key equal for designs that :func:`check_one_structure` lets batch together."""
+def structure_key(spec: CrawlerSpec, leave_out: tuple[str, ...] = ()) -> str:
+    """A key equal for designs that :func:`check_one_structure` lets batch together
+    (``leave_out``: structural keys that the programs in question do not depend on)."""
     f = spec_fields(spec)
-    return repr(sorted((k, repr(v)) for k, v in f.items() if _structural(k)))
+    keep = (k for k in f if _structural(k) and k not in leave_out)
+    return repr(sorted((k, repr(f[k])) for k in keep))

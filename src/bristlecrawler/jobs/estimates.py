@@ -33,7 +33,9 @@ def compile_key(spec, what: str = "crawler") -> str:
     from bristlecrawler.fe.programs import environment
 
     cache = os.environ.get("BRISTLECRAWLER_JAX_CACHE", "")
-    return digest([what, structure_key(spec), cache, environment()])
+    # The drag rig drives its carriage, not the body: the stroke is not in its programs.
+    leave_out = ("stroke form",) if what == "drag" else ()
+    return digest([what, structure_key(spec, leave_out), cache, environment()])
 
 
 def compile_note(spec, what: str = "crawler") -> str:
