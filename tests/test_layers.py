@@ -42,6 +42,7 @@ EVERYTHING_BELOW_THE_CLI = (
     BASE
     | {"_pytree", "fe", "contact", "reduced", "actuators", TOP}
     | {"crawler", "experiment", "verification", "io", "scenario", "viz", "studies", "jobs"}
+    | {"export"}
 )
 
 #: Layer -> the package's own layers it may import.
@@ -58,6 +59,8 @@ ALLOWED = {
     "crawler": BASE | {"_pytree", "fe", "contact", "reduced", "actuators"},
     "experiment": BASE | {"reduced", "actuators", "io"},
     "verification": BASE | {"fe", "contact", "reduced"},
+    # Decks for other FE codes are written from the crawler's specs.
+    "export": BASE | {"crawler", "contact"},
     # Run metadata records the package version.
     "io": BASE | {"reduced", TOP},
     "scenario": BASE | {"fe", "contact", "reduced", "actuators", "crawler", "io"},
@@ -67,7 +70,7 @@ ALLOWED = {
     # Jobs run everything below the CLI; `reproduce` runs design studies too.
     "jobs": BASE
     | {"fe", "contact", "reduced", "actuators", "crawler", "experiment", "io", "scenario"}
-    | {"viz", "studies"},
+    | {"viz", "studies", "export"},
     "cli": EVERYTHING_BELOW_THE_CLI,
 }
 

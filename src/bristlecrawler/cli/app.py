@@ -40,6 +40,7 @@ def _register() -> None:
     from bristlecrawler.cli import (
         drag,
         experiment,
+        export,
         predict,
         reduced,
         reproduce,
@@ -58,6 +59,7 @@ def _register() -> None:
     scenario.register(app)
     sweep.register(app)
     reproduce.register(app)
+    export.register(app)
 
 
 _register()
