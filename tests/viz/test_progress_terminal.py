@@ -142,3 +142,21 @@ def test_on_a_pseudo_terminal_the_default_draws_bars():
     assert "reproduce: first ..." not in out
     for name in ("crawler", "first", "second"):
         assert name in out
+
+
+def test_a_stage_note_known_as_it_runs_says_what_the_stage_turned_out_to_be(capsys):
+    from bristlecrawler.viz.progress import StageNote
+
+    ended = []
+
+    def end(seconds):
+        ended.append(seconds)
+        return "programs: loaded"
+
+    notes = {"compiling": StageNote(lambda: "preparing programs", end)}
+    with sim_progress(10.0, "crawler", enabled=None, notes=notes) as bar:
+        bar.update(0.0, stage="compiling")
+        bar.update(0.0, stage="gravity step")
+    lines = capsys.readouterr().err.splitlines()
+    assert lines.count("preparing programs") == 1 and lines.count("programs: loaded") == 1
+    assert len(ended) == 1 and not any(x.startswith("compiling: done in") for x in lines)
