@@ -168,4 +168,10 @@ def _fe_inclination(ctx: Context):
     return [fig], lines, values
 
 
-STUDY = Part("study", "Beyond the paper: a design study of the inclination", run_study, 0.18)
+STUDY = Part(
+    "study",
+    "Beyond the paper: a design study of the inclination",
+    run_study,
+    cost=47.0,
+    quick_cost=3.0,
+)
