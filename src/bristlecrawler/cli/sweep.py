@@ -148,6 +148,9 @@ def _print_summary(summary: dict) -> None:
     console.print(f"store: {summary['store']}")
     if summary["figures"]:
         console.print(f"figures: {Path(summary['figures'][0]).parent}")
+        maps = [f for f in summary["figures"] if Path(f).name.startswith("map_")]
+        if maps:
+            console.print(f"design map: {maps[0]}")
 
 
 def register(app: typer.Typer) -> None:
