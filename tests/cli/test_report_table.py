@@ -154,3 +154,19 @@ def test_the_readme_shows_the_reference_runs_table():
     doc = json.loads((ROOT / "docs" / "results" / "table.json").read_text(encoding="utf-8"))
     assert _readme_section() == readme_table(doc)
     assert [r["key"] for r in doc["rows"]] == [spec.key for spec in ROWS]
+
+
+def test_the_difference_column_is_signed_and_has_its_unit(tmp_path):
+    """In both forms of the report: ``+0.400 mm`` for ours above the paper's,
+    ``-2.500 mJ`` below it."""
+    from bristlecrawler.jobs.reproduce.render import Report, markdown, to_html
+    from bristlecrawler.jobs.reproduce.table import Row
+
+    def row(key, unit, paper, ours):
+        return Row(key, key, unit, paper, f"{paper}", ours, "", "test", True, "", "", "agrees")
+
+    rows = (row("a_mm", "mm", 16.0, 16.4), row("w_mJ", "mJ", 30.0, 27.5))
+    rep = Report("t", (), rows, ())
+    for text in (markdown(rep), to_html(rep, tmp_path)):
+        assert "+0.400 mm" in text and "-2.500 mJ" in text
+        assert "ours - paper" in text

@@ -69,17 +69,21 @@ def test_no_progress_is_silent_even_for_notes(capsys):
     assert capsys.readouterr().err == ""
 
 
-def test_parts_lines_give_no_eta_from_a_tiny_first_part(capsys):
-    """Nominal shares are not seconds: the first part's second says nothing of the rest."""
-    with parts_progress({"a": 0.01, "b": 1.0}, enabled=None) as bar:
+def test_parts_lines_say_the_time_left_from_the_parts_expected_times(capsys):
+    """The parts' expected times are seconds (their last runs here, or the reference
+    machine's): the lines say what is left from the start, weighted by them."""
+    t = [0.0]
+    with parts_progress({"a": 10.0, "b": 90.0}, enabled=None, clock=lambda: t[0]) as bar:
         bar.start("a")
-        bar.finish("a", True, 1.0)
+        t[0] = 10.0
+        bar.finish("a", True, 10.0)
         bar.start("b")
         bar.note("compiling ...")
         bar.finish("b", True, 2.0)
-    err = capsys.readouterr().err
-    assert "left" not in err
-    assert "reproduce: compiling ..." in err.splitlines()
+    lines = capsys.readouterr().err.splitlines()
+    assert "reproduce: a ... (0 s elapsed, about 100 s left)" in lines
+    assert "reproduce: b ... (10 s elapsed, about 90 s left)" in lines
+    assert "reproduce: compiling ..." in lines
 
 
 SCRIPT = textwrap.dedent(
@@ -142,3 +146,21 @@ def test_on_a_pseudo_terminal_the_default_draws_bars():
     assert "reproduce: first ..." not in out
     for name in ("crawler", "first", "second"):
         assert name in out
+
+
+def test_a_stage_note_known_as_it_runs_says_what_the_stage_turned_out_to_be(capsys):
+    from bristlecrawler.viz.progress import StageNote
+
+    ended = []
+
+    def end(seconds):
+        ended.append(seconds)
+        return "programs: loaded"
+
+    notes = {"compiling": StageNote(lambda: "preparing programs", end)}
+    with sim_progress(10.0, "crawler", enabled=None, notes=notes) as bar:
+        bar.update(0.0, stage="compiling")
+        bar.update(0.0, stage="gravity step")
+    lines = capsys.readouterr().err.splitlines()
+    assert lines.count("preparing programs") == 1 and lines.count("programs: loaded") == 1
+    assert len(ended) == 1 and not any(x.startswith("compiling: done in") for x in lines)

@@ -15,11 +15,51 @@ import sys
 import warnings
 
 import typer
+from typer.core import TyperGroup
 
 from bristlecrawler.errors import InputError, Interrupted, SolverError
 
+#: The order in which ``--help`` lists the commands: as a user meets them, from the paper's
+#: results to a design of one's own, then the tools behind them. A command not named here is
+#: listed before ``version``, in the order it was registered.
+COMMAND_ORDER = (
+    "reproduce",
+    "simulate",
+    "predict",
+    "sweep",
+    "drag",
+    "reduced",
+    "calibrate",
+    "analyze",
+    "synth-recording",
+    "verify",
+    "scenario",
+    "version",
+)
+
+
+class _Commands(TyperGroup):
+    """The top-level group: commands in :data:`COMMAND_ORDER`, each listed with its help's
+    whole first sentence (click cuts a summary at a width of its own, even on a wide
+    terminal)."""
+
+    def __init__(self, **attrs) -> None:
+        super().__init__(**attrs)
+        for cmd in self.commands.values():
+            if not cmd.short_help and cmd.help:
+                cmd.short_help = cmd.get_short_help_str(limit=10_000)
+
+    def list_commands(self, ctx) -> list[str]:
+        rank = {name: i for i, name in enumerate(COMMAND_ORDER)}
+        unlisted = COMMAND_ORDER.index("version") - 0.5
+        return sorted(super().list_commands(ctx), key=lambda n: rank.get(n, unlisted))
+
+
 app = typer.Typer(
+    cls=_Commands,
     name="bristlecrawler",
+    # click's help is 80 columns wide at most; a wider terminal gets up to 120.
+    context_settings={"max_content_width": 120},
     help="Crawlers that move by directional friction: reduced model, FE model, experiments.",
     no_args_is_help=True,
     add_completion=False,

@@ -56,7 +56,9 @@ def analyze_cmd(
     ] = False,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="skip the figure")] = False,
 ) -> None:
-    """Analyse a recording: cycles, per-cycle advance, stick/slip transitions, fitted F_p/k
+    """Analyse a recording of the prototype: advance per cycle, stick and slip, F_p/k.
+
+    Finds the cycles, the advance of each, the stick/slip transitions and the fitted F_p/k
     with a bootstrap interval (and F_p, k with --work or a force channel)."""
     from bristlecrawler.experiment import ChannelMap, analyze, read_recording
     from bristlecrawler.io.jsonio import dumps_strict, finite_or_none

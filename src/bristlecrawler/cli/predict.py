@@ -25,9 +25,13 @@ def predict_cmd(
 ) -> None:
     """Predict a design's advance and work with the reduced models, before any FE run.
 
-    Runs a drag test of the scenario's bristle over its substrate (minutes; cached in
-    ~/.cache/bristlecrawler/drag or $BRISTLECRAWLER_DRAG_CACHE), then the reduced crawler
-    on the texture law it gives and the paper's reduced model with its k, F_p, F_n.
+    Runs a drag test of the scenario's bristle over its substrate (minutes; kept in the
+    drag cache: $BRISTLECRAWLER_DRAG_CACHE, else $XDG_CACHE_HOME/bristlecrawler/drag,
+    else ~/.cache/bristlecrawler/drag), then the reduced crawler on the texture law it gives
+    and the paper's reduced model with its k, F_p, F_n. Each model's line says what it
+    assumed; the paper's model is not run where the drag test finds F_n < F_p; where the
+    two differ by more than a pitch per cycle, a note says which one the FE crawler has
+    checked on such designs.
     """
     from bristlecrawler.errors import InputError
     from bristlecrawler.fe import enable_compilation_cache
@@ -41,6 +45,7 @@ def predict_cmd(
         sc = apply_overrides(sc, list(assign))
     enable_compilation_cache()
     result = run_predict(sc, cycles, progress=None if not as_json else False)
+    result["changes"] = list(assign or [])
     if as_json:
         from bristlecrawler.io.jsonio import dumps_strict
 
@@ -49,29 +54,48 @@ def predict_cmd(
     _print(result)
 
 
+def _title(r: dict) -> str:
+    """What was run: the scenario and the changes made to it."""
+    design = r["scenario"]
+    if r["changes"]:
+        design += " with " + ", ".join(r["changes"])
+    return f"{design}: reduced models, {r['cycles']} cycles"
+
+
 def _print(r: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
     from bristlecrawler.reduced.metrics import RunMetrics
 
-    table = Table(title=f"{r['scenario']}: reduced models, {r['cycles']} cycles")
+    table = Table(title=_title(r))
     table.add_column("model")
     table.add_column("advance per cycle (mm)", justify="right")
     table.add_column("net advance (mm)", justify="right")
     table.add_column("work (mJ)", justify="right")
-    for name, label in (("texture", "texture law"), ("paper", "paper (k, F_p, F_n)")):
+    for name, model in r["models"].items():
+        if r[name] is None:
+            table.add_row(model["label"], "not run (below)", "", "")
+            continue
         m = RunMetrics.from_dict(r[name])
         per = ", ".join(f"{a:.2f}" for a in m.advance_per_cycle)
-        table.add_row(label, per, f"{m.net_advance:.3f}", f"{m.work:.3f}")
+        table.add_row(model["label"], per, f"{m.net_advance:.3f}", f"{m.work:.3f}")
     console = Console()
-    console.print(table)
+    say = lambda text: console.print(text, markup=False, highlight=False)  # noqa: E731
+    say(table)
     d = r["drag"]
-    where = "cached" if d["cached"] else "run now"
-    console.print(
-        f"drag test ({where}): k = {d['k_N_per_mm']:.3f} N/mm, F_p = {d['fp_N']:.3f} N, "
-        f"F_n = {d['fn_N']:.3f} N, pitch {d['pitch_mm']:g} mm"
+    where = "from the drag cache" if d["cached"] else "run now"
+    say(
+        f"FE drag test of one bristle ({where}): k = {d['k_N_per_mm']:.3f} N/mm, "
+        f"F_p = {d['fp_N']:.3f} N, F_n = {d['fn_N']:.3f} N, pitch {d['pitch_mm']:g} mm"
     )
+    for model in r["models"].values():
+        say(f"{model['label']} assumes: {model['assumes']}")
+    for model in r["models"].values():
+        if model["not_run"]:
+            say(f"{model['label']} not applicable: {model['not_run']}")
+    if r["disagreement"]:
+        say(f"which to trust: {r['disagreement']}")
 
 
 def register(app: typer.Typer) -> None:

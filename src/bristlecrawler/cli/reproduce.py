@@ -38,7 +38,9 @@ def reproduce_cmd(
     ] = None,
     progress: ShowProgress = None,
 ) -> int:
-    """Reproduce the paper: experiments, the FE model at alpha = pi/4 and 0, the reduced
+    """Reproduce the paper's results and write a report of them beside the paper's.
+
+    The parts, in order: the experiments, the FE model at alpha = pi/4 and 0, the reduced
     model and its calibration, a drag test, a design study; then the table paper versus
     bristlecrawler.
 

@@ -13,14 +13,33 @@ import typer
 from bristlecrawler.cli.options import JsonSummary
 
 
+def shipped_studies() -> dict[str, list[str]]:
+    """The shipped studies' names by model (``reduced``, ``fe``), read from their files,
+    so that the help lists what the package holds."""
+    import tomllib
+    from importlib import resources
+
+    by_model: dict[str, list[str]] = {}
+    folder = resources.files("bristlecrawler") / "studies"
+    for entry in sorted(folder.iterdir(), key=lambda p: p.name):
+        if entry.name.endswith(".toml"):
+            model = tomllib.loads(entry.read_text(encoding="utf-8")).get("model", "?")
+            by_model.setdefault(model, []).append(entry.name[:-5])
+    return by_model
+
+
+def _study_help() -> str:
+    shipped = shipped_studies()
+    reduced = ", ".join(shipped.get("reduced", []))
+    fe = ", ".join(shipped.get("fe", []))
+    return (
+        f"a shipped study or a TOML file. Shipped: {reduced} (reduced model: seconds); "
+        f"{fe} (FE model: minutes per design)"
+    )
+
+
 def sweep_cmd(
-    study: Annotated[
-        str,
-        typer.Argument(
-            help="shipped study (inclination, bristles, bristles-fe, texture, stroke) "
-            "or a TOML file"
-        ),
-    ],
+    study: Annotated[str, typer.Argument(help=_study_help())],
     out: Annotated[
         Path | None,
         typer.Option("--out", help="study folder [default: runs/<stamp>-sweep-<name>]"),
@@ -61,8 +80,11 @@ def sweep_cmd(
         ),
     ] = None,
 ) -> int:
-    """Run a design study: every design of the study file's axes, one Dask task each
-    (chunks of designs for the reduced model), each result written the moment it ends.
+    """Run a design study: a grid of designs of the reduced model or the FE model.
+
+    Every design of the study file's axes runs as one Dask task (chunks of designs for the
+    reduced model), each result written the moment it ends. The reduced model's studies take
+    seconds; the FE model's take minutes per design.
 
     Writes study.json, meta.json, parts/ (one file per finished task), study.zarr (every
     output on the design axes), designs.csv and figures/ in the study folder. Killed, the
@@ -126,6 +148,9 @@ def _print_summary(summary: dict) -> None:
     console.print(f"store: {summary['store']}")
     if summary["figures"]:
         console.print(f"figures: {Path(summary['figures'][0]).parent}")
+        maps = [f for f in summary["figures"] if Path(f).name.startswith("map_")]
+        if maps:
+            console.print(f"design map: {maps[0]}")
 
 
 def register(app: typer.Typer) -> None:

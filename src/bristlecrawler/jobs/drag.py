@@ -30,18 +30,19 @@ def solve_drag(spec, test, progress: bool | None = None):
     """Run the drag test with progress on stderr (None: bars on a terminal, lines
     otherwise), its compilation announced with the expected time."""
     from bristlecrawler.crawler.drag import drag_test
-    from bristlecrawler.jobs.estimates import compile_note, record_compile
+    from bristlecrawler.jobs.estimates import Preparation
     from bristlecrawler.viz.progress import sim_progress
 
     t_end = spec.actuation.settle_time + test.duration
-    notes = {"compiling": compile_note(spec, "drag")}
+    prep = Preparation(spec, "drag")
+    notes = {"compiling": prep.stage_note()}
     with sim_progress(t_end, "drag test", progress, notes=notes) as bar:
 
         def show(p):
             bar.update(p.t, stage=p.stage, steps=p.steps, iters=p.iterations)
 
         r = drag_test(spec, test, on_progress=show)
-    record_compile(spec, r.stats.get("compile_time_s", float("nan")), "drag")
+    prep.finish(r.stats)
     return r
 
 

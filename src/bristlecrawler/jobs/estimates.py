@@ -38,20 +38,91 @@ def compile_key(spec, what: str = "crawler") -> str:
     return digest([what, structure_key(spec, leave_out), cache, environment()])
 
 
+#: How each kind of model is named in the lines below.
+_THING = {"crawler": "crawler", "drag": "drag rig"}
+
+
+def _reference(spec, what: str) -> str:
+    """How long compiling ``what``'s programs takes: as measured here for this structure,
+    else the reference machine's figure where there is one."""
+    before = recorded("compile", compile_key(spec, what))
+    if before is not None:
+        return f"compiling took {duration(before.seconds)} here the last time"
+    if what == "crawler":
+        return f"compiling takes {FIRST_COMPILE}"
+    return "no compile of them measured here yet"
+
+
 def compile_note(spec, what: str = "crawler") -> str:
-    """The line that announces the compilation of ``spec``'s FE programs."""
+    """The line that announces the preparation of ``spec``'s FE programs. Whether they
+    will be compiled or loaded is not known until they are (a design's values can change
+    the arrays its programs are built for), so it promises neither; :class:`Preparation`
+    says afterwards which it was."""
+    thing = _THING.get(what, what)
     if _cache_off():
         return (
-            "compiling the FE programs for this structure (the compilation cache is off: "
-            f"every run compiles), {FIRST_COMPILE}"
+            f"compiling the {thing}'s FE programs (the compilation cache is off: every run "
+            f"compiles); {_reference(spec, what)}"
         )
-    before = recorded("compile", compile_key(spec, what))
-    if before is None:
-        return f"compiling the FE programs for this structure, first time only: {FIRST_COMPILE}"
     return (
-        "loading the FE programs for this structure from the compilation cache (the "
-        f"last time they were compiled or loaded here took {duration(before.seconds)})"
+        f"preparing the {thing}'s FE programs: loaded from the compilation cache where an "
+        f"earlier run stored them, else compiled ({_reference(spec, what)})"
     )
+
+
+class Preparation:
+    """The preparation of ``spec``'s FE programs in a run: ``note()`` the line before it,
+    ``outcome(seconds)`` the line after it (compiled, loaded, or ready in this process
+    already), ``finish(stats)`` keeps a compile's time for the next estimate (a load's
+    seconds would make a false one)."""
+
+    def __init__(self, spec, what: str = "crawler") -> None:
+        from bristlecrawler.fe.programs import counts
+
+        self.spec, self.what = spec, what
+        self.before = counts()
+
+    def _done(self) -> tuple[int, int]:
+        from bristlecrawler.fe.programs import counts
+
+        now = counts()
+        return (
+            now["compiled"] - self.before["compiled"],
+            now["loaded"] - self.before["loaded"],
+        )
+
+    def note(self) -> str:
+        return compile_note(self.spec, self.what)
+
+    def compiled(self) -> bool:
+        return _cache_off() or self._done()[0] > 0
+
+    def outcome(self, seconds: float) -> str:
+        thing = _THING.get(self.what, self.what)
+        compiled, loaded = self._done()
+        took = f"{seconds:.0f} s"
+        if _cache_off() or (compiled and not loaded):
+            return f"the {thing}'s FE programs: compiled in {took}"
+        if compiled:
+            return (
+                f"the {thing}'s FE programs: {compiled} compiled and {loaded} loaded from the "
+                f"compilation cache in {took}"
+            )
+        if loaded:
+            return f"the {thing}'s FE programs: loaded from the compilation cache in {took}"
+        return f"the {thing}'s FE programs: ready in {took} (this process had them already)"
+
+    def stage_note(self):
+        """The compiling stage's note for :func:`bristlecrawler.viz.progress.sim_progress`."""
+        from bristlecrawler.viz.progress import StageNote
+
+        return StageNote(self.note, self.outcome)
+
+    def finish(self, stats: dict) -> None:
+        if self.compiled():
+            record_compile(self.spec, stats.get("compile_time_s", float("nan")), self.what)
+        else:
+            _COMPILED.add(compile_key(self.spec, self.what))
 
 
 def record_compile(spec, seconds: float, what: str = "crawler") -> None:
@@ -65,8 +136,10 @@ _COMPILED: set[str] = set()
 
 def compile_announcer(spec, say, what: str = "crawler"):
     """A progress callback's helper for a run inside a longer job: ``seen(stage)`` says
-    :func:`compile_note` with ``say(text)`` when the compilation of programs this process
-    has not compiled yet starts; ``done(history)`` says how long it took and keeps it."""
+    the preparation's note with ``say(text)`` when the preparation of programs this process
+    does not hold yet starts; ``done(stats)`` says what it turned out to be (compiled or
+    loaded) and how long it took, and keeps a compile's time."""
+    prep = Preparation(spec, what)
 
     class _Announcer:
         said = False
@@ -75,15 +148,15 @@ def compile_announcer(spec, say, what: str = "crawler"):
             if stage == "compiling" and not self.said:
                 self.said = True
                 if compile_key(spec, what) not in _COMPILED:
-                    say(compile_note(spec, what))
+                    say(prep.note())
                 else:
-                    self.said = None  # compiled in this process: nothing to announce
+                    self.said = None  # prepared in this process: nothing to announce
 
         def done(self, stats: dict) -> None:
             seconds = stats.get("compile_time_s", float("nan"))
             if self.said and seconds == seconds:
-                say(f"compiling: done in {seconds:.0f} s")
-            record_compile(spec, seconds, what)
+                say(prep.outcome(seconds))
+            prep.finish(stats)
 
     return _Announcer()
 

@@ -86,9 +86,11 @@ def cached_drag(sc, test, progress: bool | None = False) -> tuple[DragSummary, b
     return DragSummary.from_dict(summary), False
 
 
-def predict_models(spec, summary: DragSummary | dict, cycles: int) -> dict[str, RunMetrics]:
-    """The texture model and the paper's model of ``spec`` with a drag ``summary`` (typed
-    or its JSON mapping)."""
+def predict_models(
+    spec, summary: DragSummary | dict, cycles: int, paper: bool = True
+) -> dict[str, RunMetrics]:
+    """The texture model and (with ``paper``) the paper's model of ``spec`` with a drag
+    ``summary`` (typed or its JSON mapping)."""
     import numpy as np
 
     from bristlecrawler.crawler.prediction import reduced_gait, reduced_twin
@@ -96,18 +98,35 @@ def predict_models(spec, summary: DragSummary | dict, cycles: int) -> dict[str, 
     from bristlecrawler.reduced.textured import TexturedCrawler
 
     x = np.sort([b.position for b in spec.bristles])
-    textured = TexturedCrawler.from_drag(
-        summary, len(x), segment_lengths=np.diff(x), start_mm=float(x[0])
-    )
+    crawlers = {
+        "texture": TexturedCrawler.from_drag(
+            summary, len(x), segment_lengths=np.diff(x), start_mm=float(x[0])
+        )
+    }
+    if paper:
+        crawlers["paper"] = reduced_twin(spec, summary)
     out = {}
-    for name, crawler in (("texture", textured), ("paper", reduced_twin(spec, summary))):
+    for name, crawler in crawlers.items():
         r = simulate(crawler, reduced_gait(spec), cycles=cycles, samples_per_cycle=400)
         out[name] = RunMetrics.from_reduced(r)
     return out
 
 
 def run_predict(sc, cycles: int | None = None, progress: bool | None = False) -> dict[str, Any]:
-    """Checks (one-line InputError), drag test (cached), both models: a JSON-ready dict."""
+    """Checks (one-line InputError), drag test (cached), both models: a JSON-ready dict.
+
+    Each model's entry under ``models`` says what it assumed, and why it was not run where
+    it does not apply (``paper`` is then None); ``disagreement`` is the line for models
+    that differ by more than a pitch per cycle (see :mod:`bristlecrawler.jobs.predict_report`).
+    """
+    import math
+
+    from bristlecrawler.jobs.predict_report import (
+        LABELS,
+        assumptions,
+        disagreement,
+        paper_model_refusal,
+    )
     from bristlecrawler.scenario.convert import to_spec
 
     spec = to_spec(sc)
@@ -116,12 +135,23 @@ def run_predict(sc, cycles: int | None = None, progress: bool | None = False) ->
     test.check(spec)
     cycles = cycles or spec.actuation.cycles
     summary, hit = cached_drag(sc, test, progress)
-    models = predict_models(spec, summary, cycles)
+    scatter = summary.along.scatter if summary.along else math.nan
+    refused = {"paper": paper_model_refusal(summary.fp, summary.fn, scatter)}
+    models = predict_models(spec, summary, cycles, paper=refused["paper"] is None)
     law = summary.texture
+    results = {name: (models[name].to_dict() if name in models else None) for name in LABELS}
+    assumed = assumptions(summary, cycles, len(spec.bristles))
     return {
         "scenario": sc.name,
         "cycles": cycles,
-        **{name: m.to_dict() for name, m in models.items()},
+        **results,
+        "models": {
+            name: {"label": label, "assumes": assumed[name], "not_run": refused.get(name)}
+            for name, label in LABELS.items()
+        },
+        "disagreement": disagreement(
+            results["texture"], results["paper"], law.pitch_mm, len(spec.bristles)
+        ),
         "drag": {
             "cached": hit,
             K_N_PER_MM: summary.k,

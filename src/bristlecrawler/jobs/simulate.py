@@ -106,19 +106,20 @@ def solve(spec, progress: bool | None = None) -> CrawlerHistory:
     otherwise); the compilation is announced with its expected time, and its measured
     time kept for the next estimate."""
     from bristlecrawler.crawler import build, run
-    from bristlecrawler.jobs.estimates import compile_note, record_compile
+    from bristlecrawler.jobs.estimates import Preparation
     from bristlecrawler.viz.progress import sim_progress
 
+    prep = Preparation(spec)
     crawler = build(spec)
     t_end = spec.actuation.settle_time + spec.actuation.stroke_duration(spec.segments)
-    notes = {"compiling": compile_note(spec)}
+    notes = {"compiling": prep.stage_note()}
     with sim_progress(t_end, "crawler", progress, notes=notes) as bar:
 
         def show(p):
             bar.update(p.t, stage=p.stage, steps=p.steps, iters=p.iterations)
 
         h = run(crawler, on_progress=show)
-    record_compile(spec, h.stats.get("compile_time_s", float("nan")))
+    prep.finish(h.stats)
     return h
 
 

@@ -106,19 +106,37 @@ def _numeric(ds, key) -> bool:
     return ds[key].dtype.kind in "iuf"
 
 
+def _value_label(key: str, value) -> str:
+    """``fp = 0.05 N``: a design axis's value with its declared unit."""
+    unit = _declared_axes().get(key, ("", ""))[1]
+    unit = "" if unit in ("", "1", "-") else f" {unit}"
+    text = f"{value:.3g}" if isinstance(value, float | np.floating) else str(value)
+    return f"{key.split('.')[-1]} = {text}{unit}"
+
+
+def _evenly(n: int, most: int) -> np.ndarray:
+    """At most ``most`` indices of ``range(n)``, evenly spread, the ends included."""
+    return np.unique(np.linspace(0, n - 1, min(n, most)).round().astype(int))
+
+
 def _against_axis(ax, ds, out, key) -> None:
+    """``out`` against the axis ``key``: a line per value of the other axes on a grid (a
+    few of them, evenly spread, where there are many), else the designs as points."""
     y = ds[out].where(ds.status == int(DesignStatus.DONE))
     others = [d for d in y.dims if d != key]
     lines = int(np.prod([y.sizes[d] for d in others])) if others else 1
-    if key in ds.dims and lines <= MAX_LINES:
+    if key in ds.dims:
         stacked = y.stack(_line=others) if others else y.expand_dims(_line=[0])
-        for j in range(stacked.sizes["_line"]):
+        picks = _evenly(lines, MAX_LINES)
+        for j in picks:
             label = None
             if others:
                 idx = stacked["_line"].values[j]
                 idx = idx if isinstance(idx, tuple) else (idx,)
-                label = ", ".join(f"{d}={_fmt(v)}" for d, v in zip(others, idx, strict=True))
-            ax.plot(ds[key].values, stacked.isel(_line=j).values, "o-", ms=3, label=label)
+                label = ", ".join(_value_label(d, v) for d, v in zip(others, idx, strict=True))
+            ax.plot(ds[key].values, stacked.isel(_line=j).values, "-", lw=1.2, label=label)
+        if picks.size < lines:
+            ax.set_title(f"{picks.size} of {lines} values of {', '.join(others)}", fontsize=8)
     else:
         x = ds[key].broadcast_like(y).values.ravel()
         v = y.values.ravel()
@@ -126,7 +144,8 @@ def _against_axis(ax, ds, out, key) -> None:
             keep = np.random.default_rng(0).choice(v.size, MAX_POINTS, replace=False)
             x, v = x[keep], v[keep]
         ax.plot(x, v, ".", ms=2)
-    if _mark_failed(ax, ds, key) or others:
+    _mark_failed(ax, ds, key)
+    if ax.get_legend_handles_labels()[0]:  # an empty legend box says nothing
         ax.legend(fontsize=6)
     ax.set_xlabel(axis_label(key))
     ax.set_ylabel(output_label(out))
@@ -161,8 +180,9 @@ def plot_outputs(ds, keys: list[str], folder: Path) -> list[Path]:
 
 
 def plot_maps(ds, keys: list[str], folder: Path) -> list[Path]:
-    """Maps of the headline outputs over the first two numeric axes (a colour map on a
-    grid, averaged over any other axes; coloured points for sampled or zipped axes)."""
+    """Design maps of the headline outputs over the first two numeric axes: on a grid a
+    colour map with labelled contours (averaged over any other axes), else coloured
+    points; failed designs marked. Returns the files written."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -176,38 +196,67 @@ def plot_maps(ds, keys: list[str], folder: Path) -> list[Path]:
     a, b = keys[:2]
     written = []
     for out in MAPPED:
-        y = ds[out].where(ds.status == int(DesignStatus.DONE))
-        fig, ax = plt.subplots(figsize=(5.2, 4.2))
-        if a in ds.dims and b in ds.dims:
-            others = [d for d in y.dims if d not in (a, b)]
-            m = y.mean(others) if others else y
-            mesh = ax.pcolormesh(
-                ds[a].values, ds[b].values, m.transpose(b, a).values, shading="nearest"
-            )
-            if others:
-                ax.set_title(f"mean over {', '.join(others)}", fontsize=8)
-        else:
-            x = ds[a].broadcast_like(y).values.ravel()
-            z = ds[b].broadcast_like(y).values.ravel()
-            mesh = ax.scatter(x, z, c=y.values.ravel(), s=8)
-        bad = _not_done(ds)
-        if bool(bad.any()):
-            keep = bad.values.ravel()
-            ax.plot(
-                ds[a].broadcast_like(bad).values.ravel()[keep],
-                ds[b].broadcast_like(bad).values.ravel()[keep],
-                "x",
-                color="tab:red",
-                ms=7,
-                mew=2,
-                label="failed (no value)",
-            )
-            ax.legend(fontsize=6, loc="upper right")
+        fig, ax = plt.subplots(figsize=(5.6, 4.4))
+        mesh, note, handles = _map(ax, ds, out, a, b)
+        _mark_failed_designs(ax, ds, a, b)
+        handles += ax.get_legend_handles_labels()[0]
+        if handles:
+            ax.legend(handles=handles, fontsize=6, loc="upper right")
         fig.colorbar(mesh, ax=ax, label=output_label(out))
         ax.set_xlabel(axis_label(a))
         ax.set_ylabel(axis_label(b))
+        title = f"{ds.attrs.get('study_name', '')}: {OUTPUTS[out][1]}{note}"
+        ax.set_title(fit_title(title, 4.4), fontsize=9)
         fig.tight_layout()
         path = folder / f"map_{out}.png"
         save_figure(fig, path)
         written.append(path)
     return written
+
+
+def _map(ax, ds, out: str, a: str, b: str):
+    """Draw ``out`` over the axes ``a`` (x) and ``b`` (y); the colour mapping, a note
+    for the title and the legend's handles for what is not coloured."""
+    y = ds[out].where(ds.status == int(DesignStatus.DONE))
+    handles = []
+    if not (a in ds.dims and b in ds.dims):
+        x = ds[a].broadcast_like(y).values.ravel()
+        z = ds[b].broadcast_like(y).values.ravel()
+        return ax.scatter(x, z, c=y.values.ravel(), s=8), "", handles
+    others = [d for d in y.dims if d not in (a, b)]
+    m = (y.mean(others) if others else y).transpose(b, a).values
+    xa, xb = ds[a].values, ds[b].values
+    mesh = ax.pcolormesh(xa, xb, m, shading="nearest")
+    done = (ds.status == int(DesignStatus.DONE)).any([d for d in ds.status.dims if d not in (a, b)])
+    if bool((np.isnan(m) & done.transpose(b, a).values).any()):
+        from matplotlib.patches import Patch
+
+        # Designs that ran but have no value (the title's output says when): grey.
+        ax.set_facecolor("0.8")
+        handles.append(Patch(color="0.8", label="no value"))
+    if min(m.shape) >= 3 and np.isfinite(m).sum() >= 4:
+        from matplotlib.ticker import MaxNLocator
+
+        low, high = np.nanmin(m), np.nanmax(m)
+        # Not at the lowest value: a plateau there (no advance) gives a ragged line.
+        levels = [v for v in MaxNLocator(8).tick_values(low, high) if low < v < high]
+        if levels:
+            lines = ax.contour(xa, xb, m, levels=levels, colors="white", linewidths=0.7)
+            ax.clabel(lines, fontsize=7, fmt="%.3g")
+    return mesh, (f" (mean over {', '.join(others)})" if others else ""), handles
+
+
+def _mark_failed_designs(ax, ds, a: str, b: str) -> None:
+    bad = _not_done(ds)
+    if not bool(bad.any()):
+        return
+    keep = bad.values.ravel()
+    ax.plot(
+        ds[a].broadcast_like(bad).values.ravel()[keep],
+        ds[b].broadcast_like(bad).values.ravel()[keep],
+        "x",
+        color="tab:red",
+        ms=7,
+        mew=2,
+        label="failed (no value)",
+    )

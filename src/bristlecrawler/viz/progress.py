@@ -15,7 +15,8 @@ import contextlib
 import math
 import sys
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
 from typing import Literal
 
 Mode = Literal["bars", "lines", "off"]
@@ -36,11 +37,21 @@ def progress_mode(enabled: bool | None, stream=None) -> Mode:
     return "bars" if enabled else "off"
 
 
+@dataclass(frozen=True)
+class StageNote:
+    """A stage's lines that are only known as it runs: ``start()`` when it starts,
+    ``end(seconds)`` when it ends (what it turned out to do, and how long it took)."""
+
+    start: Callable[[], str]
+    end: Callable[[float], str]
+
+
 class StageNotes:
     """Prints ``notes[stage]`` when a stage that has a note starts, and the stage's
-    measured time when it ends (``write(text)`` prints one line)."""
+    measured time when it ends (``write(text)`` prints one line); a :class:`StageNote`
+    writes its own lines."""
 
-    def __init__(self, notes: Mapping[str, str] | None, write) -> None:
+    def __init__(self, notes: Mapping[str, str | StageNote] | None, write) -> None:
         self.notes, self.write = dict(notes or {}), write
         self.current: str | None = None
         self.t0 = 0.0
@@ -48,12 +59,15 @@ class StageNotes:
     def enter(self, stage: str) -> None:
         if stage == self.current:
             return
-        if self.current in self.notes:
+        note = self.notes.get(self.current)
+        if note is not None:
             took = time.perf_counter() - self.t0
-            self.write(f"{self.current}: done in {took:.0f} s")
+            ended = note.end(took) if isinstance(note, StageNote) else None
+            self.write(ended or f"{self.current}: done in {took:.0f} s")
         self.current, self.t0 = stage, time.perf_counter()
-        if stage in self.notes:
-            self.write(self.notes[stage])
+        note = self.notes.get(stage)
+        if note is not None:
+            self.write(note.start() if isinstance(note, StageNote) else note)
 
 
 def stderr_bars(*columns, tail=()):
@@ -116,7 +130,7 @@ def sim_progress(
     enabled: bool | None = None,
     period: float | None = None,
     start: float = 0.0,
-    notes: Mapping[str, str] | None = None,
+    notes: Mapping[str, str | StageNote] | None = None,
 ) -> Iterator:
     """Yield an object with ``update(t_sim, stage=None, **info)``: ``t_sim`` s of simulated
     time, ``stage`` what the run is doing (kept until the next stage), ``info`` counters.

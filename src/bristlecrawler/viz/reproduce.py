@@ -40,23 +40,38 @@ def plot_vertical(phases, histories, inclined=None):
     return fig
 
 
-def plot_study(values, outputs, axis_label: str, title: str, failed=None):
+def plot_study(values, outputs, axis_label: str, title: str, failed=None, quanta=None):
     """Outputs of a one-axis design study: ``values`` on x, one panel per entry of
     ``outputs`` (label -> array, NaN where a design failed); ``failed`` (booleans, one
-    per value) marks the designs that failed with a red cross at the foot of each panel."""
+    per value) marks the designs that failed with a red cross at the foot of each panel.
+
+    Each panel's axis starts at zero, so that a difference of round-off is not drawn as a
+    trend; ``quanta`` (label -> mm) draws the whole multiples of a quantum (the texture's
+    pitch, which an FE crawler's cycle advances by) as dotted lines on that panel."""
     import numpy as np
 
     plt = pyplot()
     fig, axes = plt.subplots(1, len(outputs), figsize=(4.2 * len(outputs), 3.6), squeeze=False)
     bad = np.zeros(len(values), bool) if failed is None else np.asarray(failed, bool)
+    quanta = quanta or {}
     for ax, (label, y) in zip(axes[0], outputs.items(), strict=True):
         ax.plot(values, y, "o-", color="k")
+        finite = np.asarray(y, float)[np.isfinite(y)]
+        high = max(float(finite.max()) if finite.size else 1.0, 0.0)
+        low = min(float(finite.min()) if finite.size else 0.0, 0.0)
+        ax.set_ylim(low - 0.05 * (high - low + 1e-9), high + 0.08 * (high - low + 1e-9))
+        q = quanta.get(label)
+        if q:
+            for k in range(int(np.floor(low / q)), int(np.ceil(high / q)) + 1):
+                ax.axhline(k * q, color="0.6", ls=":", lw=0.8)
+            ax.plot([], [], color="0.6", ls=":", lw=0.8, label=f"whole pitches ({q:g} mm)")
         if bad.any():
             mark_failed(ax, np.asarray(values)[bad])
+        if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
         ax.set_xlabel(axis_label)
         ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
+        ax.grid(alpha=0.3, axis="x")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig

@@ -92,5 +92,6 @@ DRAG = Part(
     "drag",
     "Drag test: the reduced model's parameters measured on the FE bristle",
     run_drag,
-    0.12,
+    cost=125.0,
+    quick_cost=61.0,
 )

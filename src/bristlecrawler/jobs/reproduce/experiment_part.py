@@ -107,5 +107,5 @@ EXPERIMENT = Part(
     "experiment",
     "Experiments: a transducer recording analysed (Section 2, Fig. 3)",
     run_experiment,
-    cost=0.03,
+    cost=1.0,
 )

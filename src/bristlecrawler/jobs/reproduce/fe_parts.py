@@ -170,8 +170,16 @@ def _fmt(x: float) -> str:
 
 
 FE_PAPER = Part(
-    "fe-paper", "Finite-element model, alpha = pi/4 (Section 3, Figs. 5, 6, 7)", run_paper, 0.3
+    "fe-paper",
+    "Finite-element model, alpha = pi/4 (Section 3, Figs. 5, 6, 7)",
+    run_paper,
+    cost=117.0,
+    quick_cost=77.0,
 )
 FE_VERTICAL = Part(
-    "fe-vertical", "Finite-element model, alpha = 0: the control (Section 3)", run_vertical, 0.35
+    "fe-vertical",
+    "Finite-element model, alpha = 0: the control (Section 3)",
+    run_vertical,
+    cost=355.0,
+    quick_cost=37.0,
 )

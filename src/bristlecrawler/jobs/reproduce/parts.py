@@ -128,13 +128,22 @@ class Part:
         name: short identifier (file prefixes, JSON keys).
         title: the section's heading.
         run: the computation, ``run(ctx) -> PartResult``.
-        cost: rough share of the run's time (for the ETA; any unit, the parts' sum scales).
+        cost: its time on the reference machine (an idle 2-core machine, an empty
+            compilation cache), s: what the overall bar and ETA expect until the part has
+            run here. quick_cost: the same with ``--quick`` (None: ``cost``).
     """
 
     name: str
     title: str
     run: Callable[[Context], PartResult]
     cost: float = 1.0
+    quick_cost: float | None = None
+
+    def reference_seconds(self, settings: Settings) -> float:
+        """Its expected time on the reference machine with ``settings``, s."""
+        if settings.quick and self.quick_cost is not None:
+            return self.quick_cost
+        return self.cost
 
 
 def run_part(part: Part, ctx: Context) -> PartResult:

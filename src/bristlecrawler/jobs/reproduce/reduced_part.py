@@ -83,5 +83,8 @@ def _fe_line(ours: dict | None) -> str:
 
 
 REDUCED = Part(
-    "reduced", "Reduced model and its calibration (Section 4, Figs. 8, 9, 10)", run_reduced, 0.02
+    "reduced",
+    "Reduced model and its calibration (Section 4, Figs. 8, 9, 10)",
+    run_reduced,
+    cost=0.5,
 )

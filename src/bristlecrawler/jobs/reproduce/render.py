@@ -34,6 +34,11 @@ def _fmt(x: float | None, unit: str) -> str:
     return f"{x:.{digits}f}"
 
 
+def _difference(x: float | None, unit: str) -> str:
+    """Ours minus the paper's, signed, with its unit: ``+1.234 mm``."""
+    return "" if x is None else f"{'+' if x >= 0 else '-'}{_fmt(abs(x), unit)} {unit}"
+
+
 def _cells(r: Row) -> list[str]:
     ours = r.ours_text if r.ours_text and r.ours is None else _fmt(r.ours, r.unit)
     if r.ours is not None and r.ours_text:
@@ -42,13 +47,13 @@ def _cells(r: Row) -> list[str]:
         f"{r.quantity} ({r.unit})",
         r.paper_text,
         ours,
-        _fmt(r.difference, r.unit),
+        _difference(r.difference, r.unit),
         r.verdict,
         r.source,
     ]
 
 
-HEAD = ["quantity", "paper", "bristlecrawler", "difference", "verdict", "ours from"]
+HEAD = ["quantity", "paper", "bristlecrawler", "ours - paper", "verdict", "ours from"]
 
 
 def _why(r: Row) -> str:

@@ -90,11 +90,11 @@ def run_reproduce(opts: ReproduceOptions) -> ReproduceRun:
             "parts": [p.name for p in opts.parts],
         }
         info = run.write_metadata(config, opts.command)
-        costs, measured, expect = _costs(opts.parts, settings)
+        costs, expect = _costs(opts.parts, settings)
         if opts.progress is not False:
             announce("reproduce", f"results go to {run.target}; {expect}")
         ctx = Context(settings, run.path, inputs={"recording": recording})
-        _run_parts(opts, ctx, costs, measured)
+        _run_parts(opts, ctx, costs)
         rows = tuple(build_table(ctx))
         header = _header(info, settings, ctx)
         report = Report(TITLE, header, rows, tuple((p, ctx.results[p.name]) for p in opts.parts))
@@ -118,27 +118,35 @@ def _cost_key(part: Part, settings: Settings) -> str:
     return f"{part.name}-{'quick' if settings.quick else 'full'}"
 
 
-def _costs(parts: tuple[Part, ...], settings: Settings) -> tuple[dict[str, float], bool, str]:
-    """Each part's expected share of the time (its seconds measured here when every part
-    was, else its nominal cost), whether they are measured, and the line that says how
-    long the run should take."""
+def _costs(parts: tuple[Part, ...], settings: Settings) -> tuple[dict[str, float], str]:
+    """Each part's expected time, s (its last run here, else its time on the reference
+    machine), and the line that says how long the run should take."""
     from bristlecrawler.io.costs import duration, recorded
 
     measured = {p.name: recorded("reproduce", _cost_key(p, settings)) for p in parts}
-    if all(m is not None for m in measured.values()):
-        seconds = {n: max(m.seconds, 0.01) for n, m in measured.items()}
-        when = max(m.utc for m in measured.values())[:10]
-        total = duration(sum(seconds.values()))
-        return seconds, True, f"expected {total} (its parts' last runs here, {when})"
+    seconds = {
+        p.name: max(m.seconds, 0.01) if m is not None else p.reference_seconds(settings)
+        for p, m in zip(parts, measured.values(), strict=True)
+    }
+    total = duration(sum(seconds.values()))
+    here = [m for m in measured.values() if m is not None]
+    if len(here) == len(parts):
+        when = max(m.utc for m in here)[:10]
+        return seconds, f"expected {total} (its parts' last runs here, {when})"
+    if here:
+        return seconds, (
+            f"expected {total} ({len(here)} of its {len(parts)} parts from their last runs "
+            "here, the others from the reference machine's times)"
+        )
     reference = QUICK_REFERENCE if settings.quick else FULL_REFERENCE
-    return {p.name: p.cost for p in parts}, False, f"not run here yet; {reference}"
+    return seconds, f"not run here yet; {reference}"
 
 
-def _run_parts(opts: ReproduceOptions, ctx: Context, costs: dict[str, float], measured) -> None:
+def _run_parts(opts: ReproduceOptions, ctx: Context, costs: dict[str, float]) -> None:
     from bristlecrawler.io.costs import record
     from bristlecrawler.viz.parts_progress import parts_progress
 
-    with parts_progress(costs, enabled=opts.progress, measured=measured) as bar:
+    with parts_progress(costs, enabled=opts.progress) as bar:
         for part in opts.parts:
             bar.start(part.name)
             ctx.progress, ctx.note = bar.update, bar.note

@@ -143,10 +143,13 @@ def _fe_inclination(ctx: Context):
         "advance, 1 cycle (mm)": ds[NET_ADVANCE_MM].values,
         "work, 1 cycle (mJ)": ds["work_mJ"].values,
     }
+    from bristlecrawler.scenario.load import load_scenario
+
+    # The FE crawler advances by whole pitches: drawn, a pitch more or less is not an optimum.
+    pitch = {"advance, 1 cycle (mm)": load_scenario("paper").substrate.pitch}
+    title = "FE crawler: inclination"
     save_figure(
-        plot_study(
-            alpha, outputs, "inclination alpha (degrees)", "FE crawler: inclination", _failed(ds)
-        ),
+        plot_study(alpha, outputs, "inclination alpha (degrees)", title, _failed(ds), pitch),
         ctx.folder / fig.path,
     )
     rows = ", ".join(
@@ -168,4 +171,10 @@ def _fe_inclination(ctx: Context):
     return [fig], lines, values
 
 
-STUDY = Part("study", "Beyond the paper: a design study of the inclination", run_study, 0.18)
+STUDY = Part(
+    "study",
+    "Beyond the paper: a design study of the inclination",
+    run_study,
+    cost=47.0,
+    quick_cost=3.0,
+)
