@@ -33,6 +33,8 @@ COMMAND_ORDER = (
     "analyze",
     "synth-recording",
     "verify",
+    "export",
+    "crosscheck",
     "scenario",
     "version",
 )

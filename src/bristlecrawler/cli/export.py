@@ -62,8 +62,12 @@ def export_cmd(
     ] = None,
     assign: Assign = None,
 ) -> None:
-    """Write a design as input decks: the drag test (continuum for CalculiX and ABAQUS,
-    the paper's B21 beams for ABAQUS) and the crawler (ABAQUS), with a README."""
+    """Write a design as ABAQUS/CalculiX input decks: its drag test and its crawler.
+
+    The drag test as a continuum (CalculiX and ABAQUS) and with the paper's B21 beams
+    (ABAQUS), the crawler as the paper's model (ABAQUS), and a README saying which
+    keywords CalculiX reads. Writes into --out (a new or empty folder, or an earlier
+    export's)."""
     from bristlecrawler.errors import InputError
     from bristlecrawler.export import ContinuumOptions, decks, write_decks
     from bristlecrawler.scenario.convert import to_spec
@@ -114,11 +118,12 @@ def crosscheck_drag_cmd(
     as_json: JsonSummary = False,
     progress: ShowProgress = None,
 ) -> None:
-    """The drag test of the design's first bristle in CalculiX (ccx) and in the toolkit:
-    stiffness before sliding, sliding force on a flat (mu N), peak force at a groove's wall.
+    """The drag test of the design's first bristle in CalculiX (ccx) and in the toolkit.
 
-    One pitch along the grain, the tip starting in the middle of a groove. Writes
-    crosscheck.json, crosscheck.md, crosscheck.png and CalculiX's files.
+    Two legs of one pitch along the grain: on a flat at the lands' level (the stiffness
+    before sliding, the sliding force mu N) and, on grooves, from a groove's middle (the
+    peak force at its wall). Writes crosscheck.json, crosscheck.md, crosscheck.png and
+    CalculiX's files; minutes (two toolkit drag tests, compiled on a first run).
     """
     from bristlecrawler.export.ccx import find_ccx
     from bristlecrawler.fe import enable_compilation_cache

@@ -98,20 +98,19 @@ class Row:
         }
 
 
-def compare(toolkit: DragSeries, calculix: DragSeries, mu: float) -> list[Row]:
-    """The rows of the cross-check: stiffness, sliding force on a flat, peak force."""
-    n_t, n_c = toolkit.normal, calculix.normal
-    ft, count_t = flat_sliding(toolkit, mu)
-    fc, count_c = flat_sliding(calculix, mu)
-    pt, xt = peak(toolkit)
-    pc, xc = peak(calculix)
-    return [
+def compare(flat_toolkit, flat_calculix, groove_toolkit, groove_calculix, mu: float) -> list[Row]:
+    """The rows of the cross-check: stiffness and sliding force from the legs on a flat,
+    the peak force from the legs over a groove (None: the design has no grooves)."""
+    n_t, n_c = flat_toolkit.normal, flat_calculix.normal
+    ft, count_t = flat_sliding(flat_toolkit, mu)
+    fc, count_c = flat_sliding(flat_calculix, mu)
+    rows = [
         Row(
             "stiffness before sliding",
             "N/mm",
-            stick_stiffness(toolkit, mu * n_t),
-            stick_stiffness(calculix, mu * n_c),
-            note="10-40 % of the rise to mu N",
+            stick_stiffness(flat_toolkit, mu * n_t),
+            stick_stiffness(flat_calculix, mu * n_c),
+            note="on a flat, 10-40 % of the rise to mu N",
         ),
         Row(
             "sliding force on a flat",
@@ -121,12 +120,18 @@ def compare(toolkit: DragSeries, calculix: DragSeries, mu: float) -> list[Row]:
             expected=mu * n_t,
             note=f"mu N = {mu:g} x {n_t:.4g} N; {count_t} and {count_c} samples",
         ),
-        Row("vertical contact force", "N", n_t, n_c, note="load and the bristle's weight"),
-        Row(
-            "peak force (groove wall)",
-            "N",
-            pt,
-            pc,
-            note=f"at travel {xt:.3g} and {xc:.3g} mm",
-        ),
+        Row("vertical contact force", "N", n_t, n_c, note="the load and the bristle's weight"),
     ]
+    if groove_toolkit is not None:
+        pt, xt = peak(groove_toolkit)
+        pc, xc = peak(groove_calculix)
+        rows.append(
+            Row(
+                "peak force at a groove's wall",
+                "N",
+                pt,
+                pc,
+                note=f"from a groove's middle; at travel {xt:.3g} and {xc:.3g} mm",
+            )
+        )
+    return rows

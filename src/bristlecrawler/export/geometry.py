@@ -20,61 +20,83 @@ from bristlecrawler.errors import InputError
 
 @dataclass(frozen=True)
 class BristleMesh:
-    """A structured quadrilateral mesh of a tapered bristle in its plane.
+    """A structured mesh of a tapered bristle in its plane: 8-node quadrilaterals
+    (quadratic, so that bending does not lock as bilinear elements do).
 
     Attributes:
-        points: (nodes, 2) coordinates, mm; node ``i * (across + 1) + j`` is station ``i``
-            along the axis (0 at the clamp) and ``j`` across the thickness (0 on the '-n'
-            face, ``across`` on the '+n' face, n = :meth:`Bristle.normal`).
-        quads: (elements, 4) node indices, counter-clockwise.
+        points: (nodes, 2) coordinates, mm.
+        elements: (elements, 8) node indices: the corners counter-clockwise, then the
+            mid-side nodes of the faces 1-2, 2-3, 3-4, 4-1 (the ABAQUS order).
         along, across: number of elements along the axis and through the thickness.
+        flipped: the elements' corner order is mirrored (a bristle with alpha < 0), so
+            that faces 1 and 3 swap sides.
     """
 
     points: np.ndarray
-    quads: np.ndarray
+    elements: np.ndarray
     along: int
     across: int
     flipped: bool = False
 
-    def station(self, i: int) -> np.ndarray:
-        """Node indices of station ``i`` (0: the clamp's end face, ``along``: the tip's)."""
-        return i * (self.across + 1) + np.arange(self.across + 1)
+    def node(self, i: int, j: int) -> int:
+        """The node at row ``i`` along the axis (0 to 2 ``along``: the clamp's end face to
+        the tip's, mid-side rows odd) and column ``j`` across it (0: the '-n' face, 2
+        ``across``: the '+n' face, n = :meth:`Bristle.normal`)."""
+        return _node_index(i, j, self.across)
+
+    def station(self, k: int) -> np.ndarray:
+        """Nodes of the end face of element row ``k`` (0: the clamp's, ``along``: the tip's)."""
+        return np.array([self.node(2 * k, j) for j in range(2 * self.across + 1)])
 
     def face(self, side: int) -> np.ndarray:
-        """Node indices of the '+n' face (side +1) or the '-n' face (side -1), clamp to tip."""
-        j = self.across if side > 0 else 0
-        return np.arange(self.along + 1) * (self.across + 1) + j
+        """Nodes of the '+n' face (side +1) or the '-n' face (side -1), clamp to tip."""
+        j = 2 * self.across if side > 0 else 0
+        return np.array([self.node(i, j) for i in range(2 * self.along + 1)])
+
+
+def _node_index(i: int, j: int, across: int) -> int:
+    """Index of refined-grid point (i, j) with the elements' centre points left out: an
+    even row has 2 across + 1 points, an odd row across + 1 (the even columns)."""
+    if i % 2 and j % 2:
+        raise ValueError(f"({i}, {j}) is an element's centre, not a node")
+    pair = (3 * across + 2) * (i // 2)
+    return pair + (j if i % 2 == 0 else 2 * across + 1 + j // 2)
 
 
 def bristle_mesh(b: Bristle, clamp: tuple[float, float], along: int, across: int) -> BristleMesh:
     """Mesh of bristle ``b`` whose axis starts at ``clamp`` (mm): ``along`` x ``across``
-    quadrilaterals, the end faces normal to the axis."""
+    8-node quadrilaterals, the end faces normal to the axis."""
     if along < 1 or across < 1:
-        raise InputError(
-            f"a bristle mesh needs at least one element each way, got {along}x{across}"
-        )
+        raise InputError(f"a bristle mesh needs an element each way, got {along}x{across}")
     axis = np.array([-math.sin(b.alpha), -math.cos(b.alpha)])  # clamp to tip
     n = b.normal()
-    xi = np.linspace(0.0, 1.0, along + 1)
-    eta = np.linspace(-0.5, 0.5, across + 1)
-    h = b.thickness(xi)
     c = np.asarray(clamp, dtype=float)
-    pts = (
-        c[None, None, :]
-        + (xi * b.length)[:, None, None] * axis[None, None, :]
-        + (eta[None, :] * h[:, None])[:, :, None] * n[None, None, :]
-    ).reshape(-1, 2)
-    quads = []
-    w = across + 1
-    for i in range(along):
-        for j in range(across):
-            a = i * w + j
-            quads.append((a, a + w, a + w + 1, a + 1))
-    quads = np.asarray(quads, dtype=int)
-    flipped = bool(_signed_areas(pts, quads).min() < 0)
-    if flipped:  # a mirrored bristle (alpha < 0) turns them over
-        quads = quads[:, [3, 2, 1, 0]]
-    return BristleMesh(pts, quads, along, across, flipped)
+    pts = []
+    for i in range(2 * along + 1):
+        xi = i / (2 * along)
+        h = float(b.thickness(xi))
+        for j in range(2 * across + 1):
+            if i % 2 and j % 2:
+                continue
+            eta = j / (2 * across) - 0.5
+            pts.append(c + xi * b.length * axis + eta * h * n)
+    pts = np.asarray(pts)
+
+    def at(i, j):
+        return _node_index(i, j, across)
+
+    elems = []
+    for e in range(along):
+        for k in range(across):
+            i, j = 2 * e, 2 * k
+            corners = [at(i, j), at(i + 2, j), at(i + 2, j + 2), at(i, j + 2)]
+            mids = [at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)]
+            elems.append(corners + mids)
+    elems = np.asarray(elems, dtype=int)
+    flipped = bool(_signed_areas(pts, elems[:, :4]).min() < 0)
+    if flipped:  # a mirrored bristle (alpha < 0): reverse the corners and their faces
+        elems = elems[:, [3, 2, 1, 0, 6, 5, 4, 7]]
+    return BristleMesh(pts, elems, along, across, flipped)
 
 
 def _signed_areas(p: np.ndarray, q: np.ndarray) -> np.ndarray:

@@ -33,7 +33,7 @@ thickness {b.thickness_clamp:g} -> {b.thickness_tip:g} mm, width {b.width:g} mm,
 `{type(spec.substrate).__name__}`.
 
 - `drag_continuum.inp` (CalculiX and ABAQUS): the drag test of bristle {test.bristle} as
-  plane-{options.plane} quadrilaterals ({options.along} x {options.across}), the substrate a
+  plane-{options.plane} 8-node quadrilaterals ({options.along} x {options.across}), the substrate a
   layer of fixed elements under its surface, surface-to-surface penalty contact with
   Coulomb friction; quasi-static: two `*STATIC` steps, the weight, then the carriage's path.
 - `drag_beam.inp` (ABAQUS): the same test with the paper's model, {b.elements} B21 beams

@@ -1,24 +1,28 @@
 """``bristlecrawler crosscheck drag``: the drag test in CalculiX beside the toolkit's own.
 
-One leg along the grain, one pitch long, from a tip that starts in the middle of a
-groove's bottom (the grooves are shifted for it; other substrates as they are): the tip
-sticks, then the bristle is held by the groove's far wall and its corner until it climbs
-out, then slides on the next land. Both codes run the same design and path: CalculiX the
-continuum deck of :mod:`export.drag_deck` (quasi-static), the toolkit its dynamic beam
-model (:func:`crawler.drag.drag_test`). The rows (:mod:`export.compare`) are read from
-both series the same way.
+Two legs of one pitch along the grain, each run by both codes on the same design and path:
+CalculiX the continuum deck of :mod:`export.drag_deck` (quasi-static), the toolkit its
+dynamic beam model (:func:`crawler.drag.drag_test`).
+
+* **flat**: the substrate replaced by a plane at the level of its lands; the tip sticks,
+  then slides: the stiffness before sliding and the sliding force (mu N).
+* **groove** (grooved designs): the tip starts in the middle of a groove's bottom (the
+  grooves shifted for it); the bristle is held by the groove's far wall and its corner
+  until it climbs out: the peak force.
+
+The rows (:mod:`export.compare`) are read from both codes' series the same way.
 
 Output folder (``runs/<timestamp>-crosscheck-<name>`` unless given): ``config.json``,
-``meta.json``, the deck and CalculiX's files (``drag_continuum.inp``, ``.dat``, ``.log``,
-``.frd``), ``crosscheck.json`` (the rows, both runs' facts), ``crosscheck.md`` (the
-table) and ``crosscheck.png`` (force against travel, both codes).
+``meta.json``, each leg's deck and CalculiX's files (``drag_flat.inp``, ``.dat``,
+``.log``; ``drag_groove.*``; ``tip_compliance.*``, the bristle alone under a
+tip force), ``crosscheck.json`` (the rows, both runs' facts),
+``crosscheck.md`` (the table) and ``crosscheck.png`` (force against travel).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -38,6 +42,17 @@ class CrosscheckRun:
     out_dir: Path | None
 
 
+@dataclass(frozen=True)
+class Leg:
+    """One leg of the cross-check: its name, design, test and CalculiX deck."""
+
+    name: str
+    spec: Any
+    test: Any
+    deck: str
+    info: Any
+
+
 def crosscheck_test(spec):
     """The cross-check's drag test: one leg along the grain, one pitch (at least 1 mm)."""
     from bristlecrawler.crawler.drag import DragTest
@@ -46,15 +61,25 @@ def crosscheck_test(spec):
     return DragTest(direction="along", distance=max(substrate_pitch(spec), 1.0))
 
 
-def prepare(spec, plane: str = "stress"):
-    """The shifted design, the test and the CalculiX deck (checked; InputError on a spec
-    the deck cannot express), before anything runs."""
+def prepare(spec, plane: str = "stress") -> list[Leg]:
+    """The legs, their designs and CalculiX decks (checked: InputError on a spec the deck
+    cannot express), before anything runs."""
+    from bristlecrawler.contact.substrates import Flat, Grooves
     from bristlecrawler.export import ContinuumOptions, continuum_deck, crosscheck_spec
 
-    test = crosscheck_test(spec)
-    cspec = crosscheck_spec(spec, test, START_SHARE)
-    text, info = continuum_deck(cspec, test, ContinuumOptions(plane=plane))
-    return cspec, test, text, info
+    opts = ContinuumOptions(plane=plane)
+    top = float(spec.substrate.profile().vertices[..., 1].max())
+    flat = dataclasses.replace(spec, substrate=Flat(height=top))
+    designs = [("flat", flat)]
+    if isinstance(spec.substrate, Grooves):
+        test = crosscheck_test(spec)
+        designs.append(("groove", crosscheck_spec(spec, test, START_SHARE)))
+    legs = []
+    for name, design in designs:
+        test = crosscheck_test(design)
+        text, info = continuum_deck(design, test, opts)
+        legs.append(Leg(name, design, test, text, info))
+    return legs
 
 
 def series_from_calculix(printed, info):
@@ -65,10 +90,12 @@ def series_from_calculix(printed, info):
     u = printed[("displacements", "CARRIAGE")]
     sub = printed[("total force", "SUBSTRATE_NODES")]
     keep = force.time >= info.settle - 1e-12
+    scale = info.force_scale
     return DragSeries(
         x=u.values[keep, 0, 0],
-        force=force.values[keep, 0, 0],
-        contact=-sub.values[keep, 0, :2],
+        force=scale * force.values[keep, 0, 0],
+        # The substrate is held in place: its reactions are the contact force on the bristle.
+        contact=scale * sub.values[keep, 0, :2],
     )
 
 
@@ -78,6 +105,36 @@ def series_from_toolkit(result):
     return DragSeries(x=result.x, force=result.force_x, contact=result.contact)
 
 
+def beam_tip_compliance(b, force: float = 1e-3) -> float:
+    """The toolkit's bristle, clamped, under a horizontal force ``force`` (N) at its tip:
+    the tip's horizontal displacement over the force, mm/N (geometrically nonlinear, so
+    the force is small)."""
+    from bristlecrawler import fe
+
+    s = fe.Structure()
+    clamp = s.node(0.0, 0.0)
+    s.fix(clamp)
+    tip = (-b.length * math.sin(b.alpha), -b.length * math.cos(b.alpha))
+    chain = s.chain(clamp, tip, b.elements, b.section())
+    s.load(chain[-1], fx=force)
+    result = fe.solve_static(s.build())
+    return float(result.state.u[chain[-1], 0]) / force
+
+
+def calculix_tip_compliance(folder: Path, b, plane: str, exe: str, force: float = 1e-3) -> float:
+    """The same in CalculiX with the continuum bristle
+    (:func:`export.drag_deck.tip_compliance_deck`)."""
+    from bristlecrawler.export import ContinuumOptions
+    from bristlecrawler.export.ccx import run_ccx
+    from bristlecrawler.export.drag_deck import tip_compliance_deck
+
+    text, _ = tip_compliance_deck(b, ContinuumOptions(plane=plane), force)
+    (folder / "tip_compliance.inp").write_text(text, encoding="ascii")
+    run = run_ccx(folder, "tip_compliance", exe=exe)
+    u = run.printed[("displacements", "TIP")].values[-1]
+    return float(np.mean(u[:, 0])) / force
+
+
 def run_crosscheck(
     sc,
     plane: str = "stress",
@@ -85,54 +142,64 @@ def run_crosscheck(
     progress: bool | None = None,
     command: str = "",
     replace: bool = False,
-    on_start: Callable[[], None] | None = None,
 ) -> CrosscheckRun:
     """Run the cross-check of scenario ``sc``'s first bristle and write its folder."""
     from bristlecrawler.export.ccx import find_ccx, run_ccx
-    from bristlecrawler.export.compare import compare
+    from bristlecrawler.export.compare import Row, compare
     from bristlecrawler.io.runs import claim_run_dir
     from bristlecrawler.jobs.drag import solve_drag
     from bristlecrawler.scenario.convert import to_spec
 
-    spec = to_spec(sc)
-    cspec, test, text, info = prepare(spec, plane)
+    legs = prepare(to_spec(sc), plane)
     exe = find_ccx()
     with claim_run_dir(out, f"crosscheck-{sc.name}", replace=replace, command=command) as run:
-        if on_start is not None:
-            on_start()
         config = {
             "scenario": sc.model_dump(mode="json"),
-            "drag": dataclasses.asdict(test),
             "plane": plane,
-            "substrate_phase_mm": _phase(cspec),
+            "legs": {
+                leg.name: {
+                    "drag": dataclasses.asdict(leg.test),
+                    "substrate": repr(leg.spec.substrate),
+                }
+                for leg in legs
+            },
         }
         run.write_metadata(config, command)
-        (run.path / "drag_continuum.inp").write_text(text, encoding="ascii")
-        ccx = run_ccx(run.path, "drag_continuum", exe=exe)
-        result = solve_drag(cspec, test, progress)
-        rows = compare(
-            series_from_toolkit(result), series_from_calculix(ccx.printed, info), cspec.contact.mu
+        series, facts = {}, {"plane": plane, "mu": legs[0].spec.contact.mu}
+        for leg in legs:
+            (run.path / f"drag_{leg.name}.inp").write_text(leg.deck, encoding="ascii")
+            ccx = run_ccx(run.path, f"drag_{leg.name}", exe=exe)
+            result = solve_drag(leg.spec, leg.test, progress)
+            series[leg.name] = (
+                series_from_toolkit(result),
+                series_from_calculix(ccx.printed, leg.info),
+            )
+            facts[leg.name] = {
+                "calculix_complete": ccx.complete,
+                "calculix_stopped": ccx.stopped,
+                "calculix_wall_s": ccx.wall_s,
+                "load_N": leg.info.load,
+                "bristle_weight_N": leg.info.bristle_weight,
+            }
+            facts["calculix_version"] = ccx.version
+        groove = series.get("groove", (None, None))
+        rows = compare(*series["flat"], *groove, facts["mu"])
+        b = legs[0].spec.bristles[legs[0].test.bristle]
+        rows.insert(
+            0,
+            Row(
+                "elastic tip compliance",
+                "mm/N",
+                beam_tip_compliance(b),
+                calculix_tip_compliance(run.path, b, plane, exe),
+                note="clamped, horizontal force at the tip (linear)",
+            ),
         )
-        facts = {
-            "calculix_version": ccx.version,
-            "calculix_complete": ccx.complete,
-            "calculix_stopped": ccx.stopped,
-            "calculix_wall_s": ccx.wall_s,
-            "plane": plane,
-            "load_N": info.load,
-            "bristle_weight_N": info.bristle_weight,
-            "mu": cspec.contact.mu,
-        }
         run.write_json("crosscheck.json", {"rows": [r.to_dict() for r in rows], **facts})
         run.results_written("crosscheck.json")
         (run.path / "crosscheck.md").write_text(table_markdown(rows))
-        _figure(result, ccx, info, run.path / "crosscheck.png", sc.name, plane)
+        _figure(series, run.path / "crosscheck.png", sc.name, plane)
     return CrosscheckRun(rows, facts, run.target)
-
-
-def _phase(spec) -> float | None:
-    phase = getattr(spec.substrate, "phase", None)
-    return None if phase is None else float(phase)
 
 
 def table_markdown(rows) -> str:
@@ -149,15 +216,13 @@ def table_markdown(rows) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _figure(result, ccx, info, path: Path, name: str, plane: str) -> None:
+def _figure(series, path: Path, name: str, plane: str) -> None:
     from bristlecrawler.viz.crosscheck import plot_crosscheck
     from bristlecrawler.viz.reduced import save_figure
 
-    c = series_from_calculix(ccx.printed, info)
     fig = plot_crosscheck(
-        (np.asarray(result.x), np.asarray(result.force_x)),
-        (c.x, c.force),
-        labels=("bristlecrawler (beam, dynamic)", f"CalculiX (plane {plane}, static)"),
-        title=f"{name}: drag test, one pitch along the grain",
+        {leg: ((t.x, t.force), (c.x, c.force)) for leg, (t, c) in series.items()},
+        labels=("bristlecrawler (beams, dynamic)", f"CalculiX (plane {plane}, static)"),
+        title=f"{name}: drag tests, one pitch along the grain",
     )
     save_figure(fig, path)
