@@ -38,7 +38,7 @@ def test_export_writes_the_decks_and_their_readme(tmp_path):
         (["--format", "vtk"], "--format must be inp"),
         (["--plane", "shell"], "--plane must be stress or strain"),
         (["--set", "bristle.alpha_deg=95"], "alpha"),
-        (["--damping-a0", "-1"], "a0 must be a finite number"),
+        (["--mass-damping", "-1"], "a0 must be a finite number"),
     ],
 )
 def test_bad_export_input_is_one_line_and_writes_nothing(tmp_path, args, message):

@@ -55,7 +55,7 @@ def export_cmd(
     a0: Annotated[
         float | None,
         typer.Option(
-            "--damping-a0",
+            "--mass-damping",
             help="Rayleigh mass coefficient a0, 1/s (a run's rayleigh_a0_per_s) [default: "
             "an estimate at the bristle's first bending frequency]",
         ),

@@ -65,7 +65,7 @@ def damping_of(spec: CrawlerSpec, a0: float | None, omega1: float) -> Damping:
     return Damping(coeff, 0.0, how) if d.kind == "mass" else Damping(0.0, coeff, how)
 
 
-def _analytic_surface(d: Deck, substrate, x0: float, x1: float, y_ref: float) -> None:
+def analytic_surface(d: Deck, substrate, x0: float, x1: float, y_ref: float) -> None:
     """The substrate's profile over x0..x1 as an analytical rigid surface (solid below)."""
     o = outline(substrate)
     k0 = math.floor((x0 - o.start[0]) / o.period) - 1
@@ -86,7 +86,7 @@ def _analytic_surface(d: Deck, substrate, x0: float, x1: float, y_ref: float) ->
     d.keyword("RIGID BODY", **{"analytical surface": "SUBSTRATE", "ref node": SUBSTRATE_REF})
 
 
-def _bristle_chain(d: Deck, b: Bristle, clamp_node: int, clamp_xy, tip_xy, first: int, tag: str):
+def bristle_chain(d: Deck, b: Bristle, clamp_node: int, clamp_xy, tip_xy, first: int, tag: str):
     """The bristle's nodes (after its clamp node) and B21 elements, one section each."""
     pts = np.linspace(clamp_xy, tip_xy, b.elements + 1)[1:]
     labels = d.nodes(first, pts, nset=f"{tag}_NODES")
@@ -101,21 +101,21 @@ def _bristle_chain(d: Deck, b: Bristle, clamp_node: int, clamp_xy, tip_xy, first
     return chain
 
 
-def _bristle_material(d: Deck, b: Bristle, tag: str, damping: Damping) -> None:
+def bristle_material(d: Deck, b: Bristle, tag: str, damping: Damping) -> None:
     d.keyword("MATERIAL", name=f"{tag}_MATERIAL")
     d.keyword("ELASTIC")
     d.data(b.youngs_modulus, b.poisson_ratio)
     d.keyword("DENSITY")
     d.data(b.density)
     if damping.a0 or damping.a1:
-        d.keyword("DAMPING", alpha=_num(damping.a0), beta=_num(damping.a1))
+        d.keyword("DAMPING", alpha=num(damping.a0), beta=num(damping.a1))
 
 
-def _num(v: float) -> str:
+def num(v: float) -> str:
     return f"{float(v):.12g}"
 
 
-def _contact(d: Deck, spec: CrawlerSpec, slave_sets: list[str]) -> None:
+def contact(d: Deck, spec: CrawlerSpec, slave_sets: list[str]) -> None:
     d.keyword("SURFACE", type="NODE", name="BRISTLES")
     for s in slave_sets:
         d.data(s)
@@ -126,7 +126,7 @@ def _contact(d: Deck, spec: CrawlerSpec, slave_sets: list[str]) -> None:
     d.data("BRISTLES", "SUBSTRATE")
 
 
-def _amplitude(d: Deck, name: str, t: np.ndarray, v: np.ndarray) -> None:
+def amplitude(d: Deck, name: str, t: np.ndarray, v: np.ndarray) -> None:
     if len(t) > MAX_AMPLITUDE_ROWS:
         raise InputError(
             f"the amplitude {name} needs {len(t)} rows, more than this export writes "
@@ -160,28 +160,28 @@ def drag_beam_deck(
     )
     d.nodes(1, np.array([[0.0, drop]]), nset="CARRIAGE")
     tip = (-b.length * math.sin(b.alpha), tip_y)
-    chain = _bristle_chain(d, b, 1, (0.0, drop), tip, 2, "BRISTLE")
+    chain = bristle_chain(d, b, 1, (0.0, drop), tip, 2, "BRISTLE")
     d.labels("NSET", "TIP", chain[-1:])
     d.elements("MASS", 900001, np.array([[1]]), "CARRIAGE_MASS")
     if spec.gravity > 0:
-        d.keyword("MASS", elset="CARRIAGE_MASS", alpha=_num(damping.a0) if damping.a0 else None)
+        d.keyword("MASS", elset="CARRIAGE_MASS", alpha=num(damping.a0) if damping.a0 else None)
         d.data(load / spec.gravity)
-    _bristle_material(d, b, "BRISTLE", damping)
+    bristle_material(d, b, "BRISTLE", damping)
     t, x = test.path()
     span = b.length + 2.0
-    _analytic_surface(d, spec.substrate, float(x.min()) - span, float(x.max()) + span, -1.0)
+    analytic_surface(d, spec.substrate, float(x.min()) - span, float(x.max()) + span, -1.0)
     contact_set = "BRISTLE_NODES" if spec.contact.nodes == "all" else "TIP"
-    _contact(d, spec, [contact_set])
-    _amplitude(d, "CARRIAGE_PATH", np.asarray(t) + settle, np.asarray(x))
+    contact(d, spec, [contact_set])
+    amplitude(d, "CARRIAGE_PATH", np.asarray(t) + settle, np.asarray(x))
     d.keyword("BOUNDARY")
     d.data("SUBSTRATE_REF", 1, 6)
     d.data("CARRIAGE", 6, 6)
     d.data("CARRIAGE", 1, 1)
-    _dynamic_step(d, spec, settle, "gravity: the weight settles the bristle on the substrate")
-    _gravity(d, spec, ["CARRIAGE_MASS", *(f"BRISTLE_E{e + 1}" for e in range(b.elements))])
+    dynamic_step(d, spec, settle, "gravity: the weight settles the bristle on the substrate")
+    gravity(d, spec, ["CARRIAGE_MASS", *(f"BRISTLE_E{e + 1}" for e in range(b.elements))])
     _drag_outputs(d)
     d.keyword("END STEP")
-    _dynamic_step(d, spec, float(t[-1]), "drag: the carriage follows its path")
+    dynamic_step(d, spec, float(t[-1]), "drag: the carriage follows its path")
     d.keyword("BOUNDARY", amplitude="CARRIAGE_PATH")
     d.data("CARRIAGE", 1, 1, 1.0)
     _drag_outputs(d)
@@ -199,7 +199,7 @@ def drag_beam_deck(
     return d.text(), info
 
 
-def _gravity(d: Deck, spec: CrawlerSpec, elsets: list[str]) -> None:
+def gravity(d: Deck, spec: CrawlerSpec, elsets: list[str]) -> None:
     if spec.gravity <= 0:
         return
     d.keyword("DLOAD")
@@ -207,10 +207,10 @@ def _gravity(d: Deck, spec: CrawlerSpec, elsets: list[str]) -> None:
         d.data(el, "GRAV", spec.gravity, 0.0, -1.0, 0.0)
 
 
-def _dynamic_step(d: Deck, spec: CrawlerSpec, duration: float, what: str) -> None:
+def dynamic_step(d: Deck, spec: CrawlerSpec, duration: float, what: str) -> None:
     d.comment(what)
     d.keyword("STEP", nlgeom="YES", inc=1000000)
-    d.keyword("DYNAMIC", alpha=_num(spec.solver.hht_alpha))
+    d.keyword("DYNAMIC", alpha=num(spec.solver.hht_alpha))
     d.data(min(spec.solver.dt_max, duration), duration, 1e-9, spec.solver.dt_max)
 
 

@@ -22,15 +22,15 @@ from bristlecrawler.crawler.model import bristle_drop
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.export.beam import (
     STROKE_SAMPLES_PER_PERIOD,
-    _amplitude,
-    _analytic_surface,
-    _bristle_chain,
-    _bristle_material,
-    _contact,
-    _dynamic_step,
-    _gravity,
-    _num,
+    amplitude,
+    analytic_surface,
+    bristle_chain,
+    bristle_material,
+    contact,
     damping_of,
+    dynamic_step,
+    gravity,
+    num,
 )
 from bristlecrawler.export.deck import Deck
 
@@ -98,15 +98,15 @@ def crawler_deck(spec: CrawlerSpec, a0: float | None = None) -> tuple[str, Crawl
         float(xs.min()) - 20.0,
         float(xs.max()) + 20.0 + 2 * spec.actuation.peak * spec.actuation.cycles,
     )
-    _analytic_surface(d, spec.substrate, *span, -1.0)
+    analytic_surface(d, spec.substrate, *span, -1.0)
     slave = [
         f"B{i}_NODES" if spec.contact.nodes == "all" else f"B{i}_TIP" for i in range(len(chains))
     ]
-    _contact(d, spec, slave)
+    contact(d, spec, slave)
     rows = []
     for j in range(spec.segments):
         t, v = stroke_table(spec, j)
-        _amplitude(d, f"STROKE_{j}", t, v)
+        amplitude(d, f"STROKE_{j}", t, v)
         rows.append(len(t))
     d.keyword("BOUNDARY")
     d.data("SUBSTRATE_REF", 1, 6)
@@ -114,12 +114,12 @@ def crawler_deck(spec: CrawlerSpec, a0: float | None = None) -> tuple[str, Crawl
         d.data("REAR", 6, 6)
     settle = spec.actuation.settle_time
     stroke = spec.actuation.stroke_duration(spec.segments)
-    _dynamic_step(d, spec, settle, "gravity: the crawler settles on the substrate")
-    _gravity(d, spec, ["BODY_MASSES", *(f"B{i}_ALL" for i in range(len(chains)))])
+    dynamic_step(d, spec, settle, "gravity: the crawler settles on the substrate")
+    gravity(d, spec, ["BODY_MASSES", *(f"B{i}_ALL" for i in range(len(chains)))])
     _hold(d, spec)
     _crawler_outputs(d)
     d.keyword("END STEP")
-    _dynamic_step(d, spec, stroke, "stroke: each segment follows -s(t)")
+    dynamic_step(d, spec, stroke, "stroke: each segment follows -s(t)")
     for j in range(spec.segments):
         d.keyword("CONNECTOR MOTION", amplitude=f"STROKE_{j}")
         d.data(f"SEGMENT_{j}", 1, 1.0)
@@ -138,11 +138,11 @@ def _bristles(d: Deck, spec: CrawlerSpec, drops, damping) -> list[np.ndarray]:
         first = BRISTLE_FIRST + i * BLOCK
         clamp = d.nodes(first, np.array([[b.position, drop]]), nset=f"{tag}_CLAMP")
         tip = (b.position - b.length * math.sin(b.alpha), tip_y)
-        chain = _bristle_chain(d, b, int(clamp[0]), (b.position, drop), tip, first + 1, tag)
+        chain = bristle_chain(d, b, int(clamp[0]), (b.position, drop), tip, first + 1, tag)
         d.labels("NSET", f"{tag}_TIP", chain[-1:])
         d.labels("ELSET", f"{tag}_ALL", first + 1 + np.arange(b.elements))
         d.labels("NSET", f"{tag}_NODES", chain[1:])
-        _bristle_material(d, b, tag, damping)
+        bristle_material(d, b, tag, damping)
         chains.append(chain)
     return chains
 
@@ -150,7 +150,7 @@ def _bristles(d: Deck, spec: CrawlerSpec, drops, damping) -> list[np.ndarray]:
 def _body(d: Deck, spec: CrawlerSpec, body, damping) -> None:
     m = spec.body.mass / len(body)
     d.elements("MASS", MASS_FIRST, body[:, None], "BODY_MASSES")
-    d.keyword("MASS", elset="BODY_MASSES", alpha=_num(damping.a0) if damping.a0 else None)
+    d.keyword("MASS", elset="BODY_MASSES", alpha=num(damping.a0) if damping.a0 else None)
     d.data(m)
     for j in range(spec.segments):
         d.elements(
