@@ -6,8 +6,8 @@ import hashlib
 import json
 import os
 import pickle
-import signal
 import stat
+import threading
 import warnings
 
 import jax
@@ -20,20 +20,29 @@ from bristlecrawler.fe.programs import StoredProgram
 
 
 @pytest.fixture(autouse=True)
-def _own_key_and_bounded_time(tmp_path, monkeypatch):
-    """A key of the test's own, warnings said afresh, and no test hanging on a FIFO."""
+def _own_key(tmp_path, monkeypatch):
+    """A key of the test's own, and warnings said afresh."""
     monkeypatch.setenv("BRISTLECRAWLER_CACHE_KEY", str(tmp_path / "config" / "cache-key"))
     monkeypatch.delenv("BRISTLECRAWLER_PROGRAM_LOG", raising=False)
     monkeypatch.setattr(program_store, "_WARNED", set())
 
-    def hung(signum, frame):
-        raise TimeoutError("hung")
 
-    old = signal.signal(signal.SIGALRM, hung)
-    signal.alarm(60)
-    yield
-    signal.alarm(0)
-    signal.signal(signal.SIGALRM, old)
+class _Unblocker:
+    """Opens a FIFO for writing after a while, so that a reader stuck on it goes on (and
+    the test fails rather than hangs); ``fired`` says whether it had to."""
+
+    def __init__(self, fifo, mode=os.O_WRONLY):
+        self.fired = False
+        self._fifo, self._mode = fifo, mode
+        self._timer = threading.Timer(10.0, self._open)
+        self._timer.start()
+
+    def _open(self):
+        self.fired = True
+        os.close(os.open(self._fifo, self._mode | os.O_NONBLOCK))
+
+    def stop(self):
+        self._timer.cancel()
 
 
 def _program(folder, name="tests.scale", scale=2.0):
@@ -134,14 +143,21 @@ def test_an_entry_that_is_not_a_regular_file_neither_hangs_nor_crashes(tmp_path,
     f = _program(tmp_path / "programs")
     entry = _entry(f)
     entry.parent.mkdir(parents=True)
+    unblock = None
     if what == "fifo":
         os.mkfifo(entry)
+        unblock = _Unblocker(entry)
     elif what == "device":
-        entry.symlink_to("/dev/zero")
+        entry.symlink_to("/dev/null")
     else:
         entry.mkdir()
-    with pytest.warns(program_store.CacheWarning, match="not loaded"):
-        assert _call(f) == [0.0, 2.0, 4.0]
+    try:
+        with pytest.warns(program_store.CacheWarning, match="not loaded"):
+            assert _call(f) == [0.0, 2.0, 4.0]
+    finally:
+        if unblock is not None:
+            unblock.stop()
+    assert unblock is None or not unblock.fired
 
 
 def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
@@ -179,8 +195,13 @@ def test_a_fifo_as_the_program_log_does_not_hang(tmp_path, monkeypatch):
     log = tmp_path / "log"
     os.mkfifo(log)
     monkeypatch.setenv("BRISTLECRAWLER_PROGRAM_LOG", str(log))
-    with pytest.warns(program_store.CacheWarning, match="program log"):
-        assert _call(_program(tmp_path / "programs")) == [0.0, 2.0, 4.0]
+    unblock = _Unblocker(log, os.O_RDONLY)
+    try:
+        with pytest.warns(program_store.CacheWarning, match="program log"):
+            assert _call(_program(tmp_path / "programs")) == [0.0, 2.0, 4.0]
+    finally:
+        unblock.stop()
+    assert not unblock.fired
 
 
 def test_a_key_others_can_read_turns_the_store_off_with_one_warning(tmp_path):
