@@ -11,8 +11,10 @@ is not trusted (as OpenSSH treats its keys).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
+import threading
 from pathlib import Path
 
 _NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
@@ -72,6 +74,35 @@ def read_bytes(path: str | os.PathLike, limit: int, follow: bool = True) -> byte
     if len(data) > limit:
         raise UnfitFile(f"{path} grew past {limit:,} bytes while read")
     return data
+
+
+def read_own(path: str | os.PathLike, limit: int) -> bytes:
+    """The content of ``path``, a cache entry: a regular file of at most ``limit`` bytes,
+    not a link, that the user owns and no one else may write (UnfitFile otherwise)."""
+    fd = open_regular(path, limit, follow=False)
+    with os.fdopen(fd, "rb") as f:
+        reason = untrusted(os.fstat(fd), "it")
+        if reason is not None:
+            raise UnfitFile(reason)
+        return f.read(limit)
+
+
+def write_private(path: str | os.PathLike, data: bytes) -> None:
+    """Write ``data`` to ``path`` atomically as a ``0600`` file (a temporary file made
+    beside it with ``O_EXCL``, renamed over it: a link at ``path`` is replaced, never
+    followed), creating missing folders ``0700``."""
+    path = Path(path)
+    private_folder(path.parent)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
+    try:
+        fd = create_new(tmp)
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
 
 
 def read_text(path: str | os.PathLike, limit: int, encoding: str = "utf-8") -> str:

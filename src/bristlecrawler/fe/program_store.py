@@ -33,13 +33,14 @@ import warnings
 from pathlib import Path
 
 from bristlecrawler._files import (
-    UnfitFile,
     create_new,
     open_lock,
     open_regular,
     private_folder,
+    read_own,
     untrusted,
     untrusted_folder,
+    write_private,
 )
 
 MAGIC = b"bristlecrawler-program-2\n"
@@ -150,7 +151,7 @@ def read_entry(path: Path, deserialize):
     if key is None:
         return None
     try:
-        blob = _read_own(path)
+        blob = read_own(path, MAX_ENTRY_BYTES)
     except (FileNotFoundError, NotADirectoryError):
         return None
     except OSError as exc:
@@ -166,15 +167,6 @@ def read_entry(path: Path, deserialize):
             return deserialize(data, in_tree, out_tree)
     except Exception as exc:  # signed by the user, yet written by another jaxlib
         return _refuse(path, f"cannot be loaded ({type(exc).__name__})")
-
-
-def _read_own(path: Path) -> bytes:
-    fd = open_regular(path, MAX_ENTRY_BYTES, follow=False)
-    with os.fdopen(fd, "rb") as f:
-        reason = untrusted(os.fstat(fd), "it")
-        if reason is not None:
-            raise UnfitFile(reason)
-        return f.read(MAX_ENTRY_BYTES)
 
 
 def _refuse(path: Path, why: str) -> None:
@@ -195,16 +187,9 @@ def write_entry(path: Path, serialized, name: str) -> None:
     if key is None or untrusted_store(path.parent) is not None:
         return
     payload = pickle.dumps(serialized)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     try:
-        private_folder(path.parent)
-        fd = create_new(tmp)
-        with os.fdopen(fd, "wb") as f:
-            f.write(MAGIC + _tag(key, path.name, payload) + payload)
-        os.replace(tmp, path)
+        write_private(path, MAGIC + _tag(key, path.name, payload) + payload)
     except OSError as exc:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
         warn_once(
             "write",
             f"compiled-program cache {path.parent} not writable ({exc.strerror or exc}); "
