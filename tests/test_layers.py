@@ -37,7 +37,7 @@ PACKAGE = "bristlecrawler"
 #: The package root's own layer (``bristlecrawler/__init__.py``: the reduced model and
 #: ``__version__``).
 TOP = "__init__"
-BASE = {"errors", "states", "_x64"}
+BASE = {"errors", "states", "_x64", "_files"}
 EVERYTHING_BELOW_THE_CLI = (
     BASE
     | {"_pytree", "fe", "contact", "reduced", "actuators", TOP}
@@ -50,6 +50,7 @@ ALLOWED = {
     "errors": set(),
     "states": set(),
     "_x64": set(),
+    "_files": set(),
     "_pytree": {"_x64"},
     TOP: {"errors", "reduced"},
     "fe": BASE | {"_pytree"},

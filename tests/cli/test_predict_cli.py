@@ -86,3 +86,120 @@ def test_bad_input_one_line_exit_2_before_any_drag(args, word, tmp_path, monkeyp
     code, out, err = run_cli(["predict", *args])
     assert code == 2 and out == ""
     assert len(err.strip().splitlines()) == 1 and word in err
+
+
+def test_a_drag_test_past_the_step_bound_is_refused_before_it_starts(
+    tmp_path, monkeypatch, run_cli
+):
+    """A wide pitch makes the prediction's drag test long (two pitches each way): refused
+    as ``drag`` refuses it, one line with the estimate, exit 2, no drag test."""
+    _entry(tmp_path, monkeypatch)
+    monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", _no_drag)
+    code, out, err = run_cli(["predict", "--set", "substrate.pitch=10000"])
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "time steps" in err
+
+
+def _fake_drag(monkeypatch, calls):
+    law = TextureLaw.sawtooth(2.0, FP, K, cells=4)
+
+    def fake(sc, test, write=True, progress=None):
+        calls.append(test)
+        return DragRun(None, _summary(law), None)
+
+    monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", fake)
+
+
+@pytest.mark.parametrize(
+    "content", ["[1, 2]", '"summary"', '{"version": 2, "summary": [1]}', "null", "3"]
+)
+def test_a_cache_entry_of_the_wrong_shape_is_one_warning_and_run_again(
+    content, tmp_path, monkeypatch, run_cli
+):
+    path = _entry(tmp_path, monkeypatch)
+    path.parent.mkdir(parents=True)
+    path.write_text(content)
+    calls = []
+    _fake_drag(monkeypatch, calls)
+    code, out, err = run_cli(["predict", "--cycles", "1", "--json"])
+    assert code == 0 and len(calls) == 1
+    assert json.loads(out)["drag"]["cached"] is False
+    assert err.count("warning:") == 1 and "not a drag summary" in err
+    assert json.loads(path.read_text())["version"] == predict.CACHE_VERSION  # replaced
+
+
+def _constant_entry(path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    law = TextureLaw.constant(FP, FN, K, pitch=2.0)
+    path.write_text(dumps_strict({"version": predict.CACHE_VERSION, "summary": _summary(law)}))
+
+
+@pytest.mark.parametrize("how", ["group-writable folder", "group-writable entry", "other user"])
+def test_a_cache_entry_others_could_write_is_not_used(how, tmp_path, monkeypatch, run_cli):
+    """Its numbers would be the prediction: one warning, and the drag test runs."""
+    path = _entry(tmp_path, monkeypatch)
+    _constant_entry(path)
+    if how == "group-writable folder":
+        path.parent.chmod(0o775)
+    elif how == "group-writable entry":
+        path.chmod(0o664)
+    else:
+        uid = __import__("os").getuid()
+        monkeypatch.setattr("os.getuid", lambda: uid + 1)
+    calls = []
+    _fake_drag(monkeypatch, calls)
+    code, out, err = run_cli(["predict", "--cycles", "1", "--json"])
+    assert code == 0 and len(calls) == 1
+    assert json.loads(out)["drag"]["cached"] is False
+    assert err.count("warning:") == 1
+
+
+@pytest.mark.parametrize("what", ["fifo", "folder", "link"])
+def test_a_cache_entry_that_is_not_a_regular_file_is_run_again(
+    what, tmp_path, monkeypatch, run_cli
+):
+    import os
+    import threading
+
+    path = _entry(tmp_path, monkeypatch)
+    path.parent.mkdir(parents=True)
+    if what == "fifo":
+        os.mkfifo(path)
+    elif what == "folder":
+        path.mkdir()
+    else:
+        _constant_entry(tmp_path / "elsewhere" / "entry.json")
+        path.symlink_to(tmp_path / "elsewhere" / "entry.json")
+    calls, fired = [], []
+
+    def unblock():  # a reader stuck on the FIFO goes on: the test fails, not hangs
+        fired.append(True)
+        os.close(os.open(path, os.O_WRONLY | os.O_NONBLOCK))
+
+    timer = threading.Timer(10.0, unblock)
+    if what == "fifo":
+        timer.start()
+    _fake_drag(monkeypatch, calls)
+    try:
+        code, _, err = run_cli(["predict", "--cycles", "1", "--json"])
+    finally:
+        timer.cancel()
+    assert code == 0 and len(calls) == 1 and not fired
+    # A folder in the entry's place is not replaced either: a second warning says so.
+    assert err.count("warning:") == (2 if what == "folder" else 1)
+
+
+def test_the_drag_cache_is_private_whatever_the_umask(tmp_path, monkeypatch, run_cli):
+    import os
+    import stat
+
+    path = _entry(tmp_path, monkeypatch)
+    _fake_drag(monkeypatch, [])
+    old = os.umask(0)
+    try:
+        code, _, _ = run_cli(["predict", "--cycles", "1", "--json"])
+    finally:
+        os.umask(old)
+    assert code == 0
+    assert stat.S_IMODE(path.parent.stat().st_mode) == 0o700
+    assert stat.S_IMODE(path.stat().st_mode) == 0o600

@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from bristlecrawler.fe import programs
+from bristlecrawler.fe import program_store, programs
 from bristlecrawler.fe.programs import StoredProgram, Undigestible, digest, stored
 
 # A program with a LAPACK kernel (as the banded solve and the modal analysis have): a
@@ -141,7 +141,7 @@ def test_a_process_waits_for_another_compiling_the_same_program_then_loads_it(tm
     env = dict(os.environ, BRISTLECRAWLER_JAX_CACHE=str(folder))
     env["BRISTLECRAWLER_PROGRAM_LOG"] = str(log)
     env.pop("BRISTLECRAWLER_NO_JAX_CACHE", None)
-    with programs._entry_lock(folder / "programs" / entry.name):
+    with programs.entry_lock(folder / "programs" / entry.name):
         child = subprocess.Popen(
             [sys.executable, "-c", PROGRAM], env=env, stdout=subprocess.PIPE, text=True
         )
@@ -220,7 +220,7 @@ def test_a_damaged_entry_is_rebuilt_not_used(tmp_path, damage):
 def test_an_unwritable_folder_warns_once_and_the_program_runs(tmp_path, monkeypatch):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    monkeypatch.setattr(programs, "_WARNED", set())
+    monkeypatch.setattr(program_store, "_WARNED", set())
     f = StoredProgram(jax.jit(lambda x: 2.0 * x), "tests.double", "k", blocker / "programs")
     g = StoredProgram(jax.jit(lambda x: 3.0 * x), "tests.triple", "k", blocker / "programs")
     with warnings.catch_warnings(record=True) as caught:

@@ -220,3 +220,61 @@ def test_an_exception_inside_the_claim_discards_everything(tmp_path):
         run.write_json("config.json", {})
         raise RuntimeError("solver blew up")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("what", ["link to a file", "link to nothing", "fifo"])
+def test_a_lock_file_planted_where_the_lock_goes_is_refused_and_not_written(
+    tmp_path, run_cli, what
+):
+    """``reduced --out o`` with ``.o.lock`` a link or a FIFO: one line, exit 2, and the
+    file the link points at keeps its content (nothing is created where it points)."""
+    lock, victim = tmp_path / ".o.lock", tmp_path / "victim"
+    if what == "link to a file":
+        victim.write_text("precious\n")
+        lock.symlink_to(victim)
+    elif what == "link to nothing":
+        lock.symlink_to(victim)
+    else:
+        os.mkfifo(lock)
+    code, out, err = run_cli(["reduced", "--json", "--out", str(tmp_path / "o")])
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert ".o.lock" in err
+    if what == "link to a file":
+        assert victim.read_text() == "precious\n"
+    else:
+        assert not victim.exists()
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("status", ["complete", "interrupted"])
+def test_a_run_inside_another_run_s_folder_is_refused(tmp_path, run_cli, status):
+    """A run folder is a unit: ``--out`` inside one (complete or not) is refused before
+    any work, and the run it would have gone into is unchanged."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "a" / "meta.json").write_text(json.dumps({"status": status}))
+    before = _tree(tmp_path)
+    for inner in ("b", "b/c"):
+        code, out, err = run_cli(["reduced", "--json", "--out", str(tmp_path / "a" / inner)])
+        assert code == 2 and out == "" and err.count("\n") == 1
+        assert "inside the run" in err
+    assert _tree(tmp_path) == before
+
+
+def test_a_fifo_as_a_run_s_meta_json_does_not_hang(tmp_path, run_cli):
+    import threading
+
+    (tmp_path / "o").mkdir()
+    os.mkfifo(tmp_path / "o" / "meta.json")
+    fired = []
+
+    def unblock():  # a reader stuck on the FIFO goes on: the test fails, not hangs
+        fired.append(True)
+        os.close(os.open(tmp_path / "o" / "meta.json", os.O_WRONLY | os.O_NONBLOCK))
+
+    timer = threading.Timer(10.0, unblock)
+    timer.start()
+    try:
+        code, _, err = run_cli(["reduced", "--json", "--out", str(tmp_path / "o")])
+    finally:
+        timer.cancel()
+    assert code == 2 and err.count("\n") == 1 and not fired

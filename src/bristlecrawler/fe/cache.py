@@ -8,12 +8,18 @@ where :func:`enable_compilation_cache` is called (every CLI command). Default fo
 moves it, ``BRISTLECRAWLER_NO_JAX_CACHE=1`` turns both off, ``BRISTLECRAWLER_XLA_CACHE=0``
 only JAX's (whose writes are not atomic: a process reading an entry that another is writing
 can crash, which the stored programs' atomic writes rule out).
+
+Both caches hold code that the next run executes, so the folders are made ``0700`` whatever
+the umask, and a folder that another user owns, or that group or others may write, is not
+used (see :mod:`bristlecrawler.fe.program_store`).
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+
+from bristlecrawler._files import private_folder, untrusted_folder
 
 
 def cache_folder() -> Path | None:
@@ -37,8 +43,17 @@ def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path | No
 
     folder = Path(path).expanduser() if path is not None else default
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        private_folder(folder)
     except OSError:
+        return None
+    reason = untrusted_folder(folder)
+    if reason is not None:
+        # JAX's entries are executables too: one that another user could plant is not run.
+        import warnings
+
+        from bristlecrawler.fe.program_store import CacheWarning
+
+        warnings.warn(f"{reason}; JAX's compilation cache is off", CacheWarning, stacklevel=2)
         return None
     jax.config.update("jax_compilation_cache_dir", str(folder))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)

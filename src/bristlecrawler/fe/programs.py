@@ -24,19 +24,17 @@ off with the rest of the cache.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import enum
 import functools
 import hashlib
 import json
 import os
-import pickle
+import stat
 import sys
 import threading
 import time
 import types
-import warnings
 import weakref
 from pathlib import Path
 from typing import Any
@@ -44,18 +42,20 @@ from typing import Any
 import jax
 import numpy as np
 
+from bristlecrawler._files import UnfitFile, kind
 from bristlecrawler.fe.cache import cache_folder
+from bristlecrawler.fe.program_store import (
+    LOAD_LOCK,
+    CacheWarning,
+    entry_lock,
+    read_entry,
+    warn_once,
+    write_entry,
+)
 
-_MAGIC = b"bristlecrawler-program-1\n"
+__all__ = ["CacheWarning", "StoredProgram", "Undigestible", "digest", "stored"]
+
 _LIVE: weakref.WeakSet = weakref.WeakSet()
-_WARNED: set[str] = set()
-# Loading executables from several threads at once crashes jaxlib (segmentation fault in
-# deserialize_and_load); loads take milliseconds, so they go one at a time.
-_LOAD_LOCK = threading.Lock()
-
-
-class CacheWarning(UserWarning):
-    """The compiled-program cache could not store a program (the run goes on)."""
 
 
 class Undigestible(TypeError):
@@ -247,7 +247,7 @@ class StoredProgram:
         if exe is None:
             # Processes that need the same program (the workers of a sweep, the test
             # processes) compile it once: the others wait for the entry and load it.
-            with _entry_lock(path):
+            with entry_lock(path, self.name):
                 exe = _read(path)
                 if exe is None:
                     return self._compile(path, args, start)
@@ -271,41 +271,6 @@ class StoredProgram:
         return exe
 
 
-#: How long a process waits for another one compiling the same program before it compiles
-#: the program itself (s): a compile takes minutes on a busy machine, never hours.
-LOCK_WAIT_S = 1800.0
-
-
-@contextlib.contextmanager
-def _entry_lock(path: Path):
-    """Hold an exclusive lock on ``path``'s entry while it is compiled and written (an
-    advisory ``flock`` on a file beside it; the system releases it when a process dies).
-    Where the folder cannot hold the lock file or the system has no ``flock``, or after
-    :data:`LOCK_WAIT_S`, go on without it: the worst case is a program compiled twice."""
-    try:
-        import fcntl
-
-        path.parent.mkdir(parents=True, exist_ok=True)
-        f = open(path.with_suffix(".lock"), "a+b")  # closed below
-    except (ImportError, OSError):
-        yield
-        return
-    try:
-        deadline = time.monotonic() + LOCK_WAIT_S
-        locked = False
-        while not locked and time.monotonic() < deadline:
-            try:
-                fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                locked = True
-            except BlockingIOError:
-                time.sleep(0.2)
-            except OSError:
-                break
-        yield
-    finally:
-        f.close()  # releases the lock
-
-
 def _log(program: StoredProgram, path: Path, event: str, start: float) -> None:
     """One JSON line per load or compile in the file ``BRISTLECRAWLER_PROGRAM_LOG`` names
     (unset: nothing): which program, which entry, how long, in which process. It tells
@@ -325,10 +290,23 @@ def _log(program: StoredProgram, path: Path, event: str, start: float) -> None:
     if "PYTEST_CURRENT_TEST" in os.environ:
         line["test"] = os.environ["PYTEST_CURRENT_TEST"].rsplit(" (", 1)[0]
     try:
-        with open(target, "a") as f:  # one short write per line: appends do not interleave
-            f.write(json.dumps(line) + "\n")
-    except OSError:
-        _warn_once("log", f"program log {target} not writable")
+        _append(target, json.dumps(line) + "\n")
+    except OSError as exc:
+        warn_once("log", f"program log {target} not written: {exc.strerror or exc}")
+
+
+def _append(target: str, text: str) -> None:
+    """Append ``text`` to the regular file ``target`` in one write (appends do not
+    interleave), never through a link, nor into a FIFO or a device (which would hang)."""
+    flags = os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NONBLOCK
+    fd = os.open(target, flags | getattr(os, "O_NOFOLLOW", 0), 0o600)
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise UnfitFile(f"it is {kind(mode)}")
+        os.write(fd, text.encode())
+    finally:
+        os.close(fd)
 
 
 #: Set in a thread while it compiles a program to store.
@@ -378,62 +356,25 @@ def _register_custom_calls() -> None:
 
 
 def _read(path: Path):
-    """The executable stored at ``path``, or None if absent or unusable (then removed)."""
+    """The executable stored at ``path``, or None if absent or refused (see
+    :mod:`bristlecrawler.fe.program_store`)."""
     from jax.experimental import serialize_executable
 
     _register_custom_calls()
-    try:
-        blob = path.read_bytes()
-    except OSError:
-        return None
-    try:
-        if not blob.startswith(_MAGIC):
-            raise ValueError("not a stored program")
-        check, payload = blob[len(_MAGIC) : len(_MAGIC) + 32], blob[len(_MAGIC) + 32 :]
-        if hashlib.sha256(payload).digest() != check:
-            raise ValueError("checksum mismatch")
-        data, in_tree, out_tree = pickle.loads(payload)
-        with _LOAD_LOCK:
-            return serialize_executable.deserialize_and_load(data, in_tree, out_tree)
-    except Exception:
-        try:
-            path.unlink()
-        except OSError:
-            pass
-        return None
+    return read_entry(path, serialize_executable.deserialize_and_load)
 
 
 def _write(path: Path, exe, name: str) -> None:
-    """Store ``exe`` at ``path`` atomically (a temporary file renamed over it)."""
+    """Store ``exe`` at ``path`` (signed, atomically)."""
     from jax.experimental import serialize_executable
 
     try:
-        with _LOAD_LOCK:
-            payload = pickle.dumps(serialize_executable.serialize(exe))
+        with LOAD_LOCK:
+            serialized = serialize_executable.serialize(exe)
     except Exception as exc:
-        _warn_once("serialize", f"compiled program {name} not stored: {exc}")
+        warn_once("serialize", f"compiled program {name} not stored: {exc}")
         return
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp.write_bytes(_MAGIC + hashlib.sha256(payload).digest() + payload)
-        os.replace(tmp, path)
-    except OSError as exc:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
-        _warn_once(
-            "write",
-            f"compiled-program cache {path.parent} not writable ({exc.strerror or exc}); "
-            "the FE programs are compiled in every process",
-        )
-
-
-def _warn_once(kind: str, message: str) -> None:
-    if kind not in _WARNED:
-        _WARNED.add(kind)
-        warnings.warn(message, CacheWarning, stacklevel=2)
+    write_entry(path, serialized, name)
 
 
 def stored(fn, name: str, *static: Any):

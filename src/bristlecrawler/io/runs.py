@@ -31,6 +31,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from bristlecrawler._files import create_new, open_lock, read_bytes
 from bristlecrawler.errors import InputError, Interrupted
 from bristlecrawler.io.atomic import atomic_write_text
 from bristlecrawler.io.jsonio import dumps_strict
@@ -44,6 +45,8 @@ from bristlecrawler.io.output_paths import (
 )
 from bristlecrawler.io.provenance import RunInfo, git_revision
 
+#: The largest ``meta.json`` or lock file read (bytes; a run's is under 2 kB).
+_MAX_META_BYTES = 1 << 20
 #: ``meta.json`` "status" of a run whose every file was written.
 COMPLETE = "complete"
 #: ... of a run that is being written (seen only in its partial folder).
@@ -80,7 +83,7 @@ def run_status(path: str | os.PathLike) -> str | None:
     if not meta.exists():
         return "other"
     try:
-        doc = json.loads(meta.read_text(encoding="utf-8"))
+        doc = json.loads(read_bytes(meta, _MAX_META_BYTES, follow=False))
     except (OSError, ValueError):
         return "unknown"
     status = doc.get("status") if isinstance(doc, dict) else None
@@ -99,7 +102,19 @@ def check_out_dir(out: str | os.PathLike | None, replace: bool = False) -> None:
     _check_state(path, replace)
 
 
+def _check_not_nested(path: Path) -> None:
+    """InputError if ``path`` lies inside another run's folder: a run folder is a unit,
+    replaced or removed whole, and a run inside it would go with it."""
+    for above in Path(os.path.realpath(path)).parents:
+        if (above / "meta.json").exists() and run_status(above) not in (None, "other"):
+            raise InputError(
+                f"output folder {shown(path)} is inside the run in {shown(above)}; give a "
+                "folder outside it"
+            )
+
+
 def _check_state(path: Path, replace: bool) -> None:
+    _check_not_nested(path)
     status = run_status(path)
     if status is None:
         return
@@ -130,12 +145,13 @@ class _Lock:
             import fcntl
         except ImportError:  # no flock (Windows): an exclusive create, not freed by a crash
             try:
-                self.fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)
+                self.fd = create_new(path, 0o644)
             except FileExistsError:
                 raise BlockingIOError(f"{path} exists") from None
             return
         while True:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            # Never through a link, nor on a FIFO or a device: UnfitFile names what is there.
+            fd = open_lock(path, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
@@ -346,7 +362,8 @@ def _claim(target: Path, replace: bool, command: str) -> RunFolder:
 
 def _owner(target: Path) -> str:
     try:
-        doc = json.loads((target.parent / f".{target.name}.lock").read_text(encoding="utf-8"))
+        lock = target.parent / f".{target.name}.lock"
+        doc = json.loads(read_bytes(lock, _MAX_META_BYTES, follow=False))
         return f" (pid {doc['pid']} on {doc['host']}, since {doc['started_utc']})"
     except (OSError, ValueError, KeyError, TypeError):
         return ""

@@ -5,8 +5,10 @@ pitches) gives the paper's parameters (k, F_p, F_n) and the texture law (k, F_p(
 F_n(x)); both reduced crawlers then play the scenario's actuation. Drag tests cost minutes,
 so their summaries are kept in a cache folder (``$BRISTLECRAWLER_DRAG_CACHE``, default
 ``~/.cache/bristlecrawler/drag``), one JSON file per bristle and texture, keyed by every
-scenario value the drag test reads; written atomically, and an unreadable entry is run
-again.
+scenario value the drag test reads; written atomically as ``0600`` files in a ``0700``
+folder. An entry that is not a regular file of the user's that no one else may write, or
+not a drag summary, is run again (one warning); a folder that another user owns, or that
+group or others may write, is not used.
 """
 
 from __future__ import annotations
@@ -61,16 +63,17 @@ def cache_key(sc, test) -> str:
 def cached_drag(sc, test, progress: bool | None = False) -> tuple[DragSummary, bool]:
     """The drag summary for ``sc`` and ``test`` from the cache, or run and stored.
     Returns (summary, whether it came from the cache)."""
-    from bristlecrawler.io.atomic import atomic_write_text
-    from bristlecrawler.io.jsonio import dumps_strict
+    from bristlecrawler._files import untrusted_folder
 
-    path = cache_folder() / f"{cache_key(sc, test)}.json"
-    try:
-        entry = json.loads(path.read_text())
-        if entry.get("version") == CACHE_VERSION and isinstance(entry["summary"]["texture"], dict):
-            return DragSummary.from_dict(entry["summary"]), True
-    except (OSError, ValueError, KeyError, TypeError):
-        pass  # missing or unreadable: run it again
+    folder = cache_folder()
+    path = folder / f"{cache_key(sc, test)}.json"
+    distrust = untrusted_folder(folder)
+    if distrust is not None:
+        _warn(f"{distrust}; its drag tests are neither read nor stored (chmod 700 it)")
+    else:
+        summary = _read_entry(path)
+        if summary is not None:
+            return summary, True
     from bristlecrawler.jobs.drag import run_drag
 
     run = run_drag(sc, test, write=False, progress=progress)
@@ -79,11 +82,68 @@ def cached_drag(sc, test, progress: bool | None = False) -> tuple[DragSummary, b
         from bristlecrawler.errors import SolverError
 
         raise SolverError("the drag test did not slide both ways: no texture law")
-    try:
-        atomic_write_text(path, dumps_strict({"version": CACHE_VERSION, "summary": summary}))
-    except OSError:
-        pass  # a read-only cache only costs the next run its drag test
+    if distrust is None:
+        _write_entry(path, summary)
     return DragSummary.from_dict(summary), False
+
+
+#: The largest drag-cache entry read (one is a few kB).
+MAX_ENTRY_BYTES = 1 << 20
+
+
+def _read_entry(path: Path) -> DragSummary | None:
+    """The summary a cache entry holds, or None: absent, or (with one warning) not a
+    regular file of the user's that no one else may write, or not an entry's shape."""
+    from bristlecrawler._files import read_own
+
+    try:
+        entry = json.loads(read_own(path, MAX_ENTRY_BYTES))
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError) as exc:
+        _warn(f"drag-cache entry {path.name} not used ({_why(exc)}); running the drag test")
+        return None
+    try:
+        if entry["version"] != CACHE_VERSION:
+            return None  # written by another version: run again and replace
+        summary = entry["summary"]
+        if not isinstance(summary["texture"], dict):
+            raise TypeError("no texture law")
+        out = DragSummary.from_dict(summary)
+        if out.texture is None:
+            raise TypeError("no texture law")
+        return out
+    except Exception as exc:  # any shape valid JSON can take (a list, a string, ...)
+        _warn(
+            f"drag-cache entry {path.name} not used (not a drag summary: {_why(exc)}); "
+            "running the drag test"
+        )
+        return None
+
+
+def _write_entry(path: Path, summary: dict) -> None:
+    """Store ``summary`` at ``path`` (0600, folders 0700, atomically); a cache that
+    cannot be written only costs the next run its drag test."""
+    from bristlecrawler._files import write_private
+    from bristlecrawler.io.jsonio import dumps_strict
+
+    text = dumps_strict({"version": CACHE_VERSION, "summary": summary})
+    try:
+        write_private(path, text.encode())
+    except OSError as exc:
+        _warn(f"drag cache {path.parent} not written ({_why(exc)})")
+
+
+def _why(exc: BaseException) -> str:
+    return str(getattr(exc, "strerror", None) or exc or type(exc).__name__)[:200]
+
+
+def _warn(message: str) -> None:
+    import warnings
+
+    from bristlecrawler.fe.program_store import CacheWarning
+
+    warnings.warn(message, CacheWarning, stacklevel=3)
 
 
 def predict_models(
@@ -128,11 +188,14 @@ def run_predict(sc, cycles: int | None = None, progress: bool | None = False) ->
         paper_model_refusal,
     )
     from bristlecrawler.scenario.convert import to_spec
+    from bristlecrawler.scenario.drag import drag_estimate
 
     spec = to_spec(sc)
     test = prediction_drag_test(spec)
     spec.check()  # the design's and the test's checks, before minutes of drag test
     test.check(spec)
+    # Refused as `drag` refuses it, cached or not: an entry for it cannot be honest.
+    drag_estimate(sc, test).check()
     cycles = cycles or spec.actuation.cycles
     summary, hit = cached_drag(sc, test, progress)
     scatter = summary.along.scatter if summary.along else math.nan
