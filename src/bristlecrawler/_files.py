@@ -20,6 +20,11 @@ from pathlib import Path
 _NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
 _NONBLOCK = getattr(os, "O_NONBLOCK", 0)
 _NOCTTY = getattr(os, "O_NOCTTY", 0)
+#: The largest input file read (a scenario, a study, a history, a texture law, a
+#: recording): larger ones are refused before reading rather than filling the memory.
+MAX_INPUT_BYTES = 1 << 30
+#: ... of a small structured file (TOML, JSON), which is a few kB when honest.
+MAX_SMALL_BYTES = 16 << 20
 
 
 class UnfitFile(OSError):
@@ -51,14 +56,14 @@ def open_regular(path: str | os.PathLike, limit: int, follow: bool = True) -> in
         fd = os.open(path, flags)
     except OSError as exc:
         if not follow and os.path.islink(path):
-            raise UnfitFile(f"{path} is a link") from None
+            raise UnfitFile("it is a link") from None
         raise exc
     try:
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
-            raise UnfitFile(f"{path} is {kind(st.st_mode)}, not a regular file")
+            raise UnfitFile(f"it is {kind(st.st_mode)}, not a regular file")
         if st.st_size > limit:
-            raise UnfitFile(f"{path} is {st.st_size:,} bytes, more than {limit:,} allowed")
+            raise UnfitFile(f"it is {st.st_size:,} bytes, more than the {limit:,} allowed")
     except BaseException:
         os.close(fd)
         raise
@@ -72,7 +77,7 @@ def read_bytes(path: str | os.PathLike, limit: int, follow: bool = True) -> byte
     with os.fdopen(fd, "rb") as f:
         data = f.read(limit + 1)
     if len(data) > limit:
-        raise UnfitFile(f"{path} grew past {limit:,} bytes while read")
+        raise UnfitFile(f"it grew past {limit:,} bytes while read")
     return data
 
 

@@ -208,12 +208,22 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
     else:
         group = next((g for g in groups if cmap.left in [c.name for c in g.channels()]), groups[0])
     _check_named([c.name for c in group.channels()], cmap, path)
-    columns = {c.name: np.asarray(c[:], dtype=float) for c in group.channels()}
+    columns = {c.name: _numbers(c, path) for c in group.channels()}
     left = group[cmap.left] if cmap.left in columns else None
     dt = None
     if left is not None and "wf_increment" in left.properties:
         dt = float(left.properties["wf_increment"])
     return _build(columns, cmap, path, dt)
+
+
+def _numbers(channel, path: str) -> np.ndarray:
+    """A TDMS channel's samples as floats; InputError for a channel of text or times."""
+    try:
+        return np.asarray(channel[:], dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"{path}: TDMS channel '{channel.name}' does not hold numbers"[:300]
+        ) from None
 
 
 def read_recording(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recording:
