@@ -300,3 +300,11 @@ def test_a_reduced_base_whose_table_is_not_a_table_is_one_line(tmp_path, value):
     text = REDUCED.format(axes="s_max = [5.0, 10.0]")
     with pytest.raises(InputError, match=r"\[reduced\] must be a table"):
         plan(_study(tmp_path, 'base = "base.toml"\n' + text))
+
+
+def test_a_reduced_design_past_the_cost_bound_is_refused_before_any_design(tmp_path):
+    text = REDUCED.format(axes="bristles = [2, 10000]").replace(
+        "cycles = 3", "cycles = 3\ns_max = 0.5\nlength = 10000.0"
+    )
+    with pytest.raises(InputError, match="10,000 bristles.*CPU time"):
+        plan(_study(tmp_path, text))
