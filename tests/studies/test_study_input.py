@@ -306,5 +306,5 @@ def test_a_reduced_design_past_the_cost_bound_is_refused_before_any_design(tmp_p
     text = REDUCED.format(axes="bristles = [2, 10000]").replace(
         "cycles = 3", "cycles = 3\ns_max = 0.5\nlength = 10000.0"
     )
-    with pytest.raises(InputError, match="10,000 bristles.*CPU time"):
+    with pytest.raises(InputError, match=r"10,000 bristles.*CPU time"):
         plan(_study(tmp_path, text))
