@@ -213,3 +213,30 @@ def test_a_key_others_can_read_turns_the_store_off_with_one_warning(tmp_path):
     with pytest.warns(program_store.CacheWarning, match="read by group or others"):
         assert _call(f) == [0.0, 2.0, 4.0]
     assert not _entry(f).exists() and key.read_text() == "k" * 64
+
+
+def test_jax_s_cache_is_made_private_and_not_used_in_a_folder_others_can_write(
+    tmp_path, monkeypatch
+):
+    """JAX's entries are executables too: its folder is made 0700 whatever the umask, and
+    one that group or others may write is not used (one warning)."""
+    from bristlecrawler.fe.cache import enable_compilation_cache
+
+    monkeypatch.delenv("BRISTLECRAWLER_NO_JAX_CACHE", raising=False)
+    monkeypatch.delenv("BRISTLECRAWLER_XLA_CACHE", raising=False)
+    before = jax.config.jax_compilation_cache_dir
+    try:
+        old = os.umask(0)
+        try:
+            made = enable_compilation_cache(tmp_path / "mine" / "jax")
+        finally:
+            os.umask(old)
+        assert made == tmp_path / "mine" / "jax"
+        assert stat.S_IMODE(made.stat().st_mode) == 0o700
+        shared = tmp_path / "shared"
+        shared.mkdir()
+        shared.chmod(0o777)
+        with pytest.warns(program_store.CacheWarning, match="written by group or others"):
+            assert enable_compilation_cache(shared) is None
+    finally:
+        jax.config.update("jax_compilation_cache_dir", before)
