@@ -126,7 +126,8 @@ def create_new(path: str | os.PathLike, mode: int = 0o600) -> int:
     (whatever the umask); FileExistsError if anything, a link included, is there."""
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _NOFOLLOW, mode)
     try:
-        os.fchmod(fd, mode)
+        if hasattr(os, "fchmod"):  # the umask may have taken bits off ``mode``
+            os.fchmod(fd, mode)
     except BaseException:
         os.close(fd)
         raise

@@ -80,3 +80,14 @@ def test_a_tdms_channel_of_text_is_one_line(tmp_path, run_cli):
     code, out, err = run_cli(["analyze", str(path), "--out", str(tmp_path / "o")])
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "does not hold numbers" in err
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".tdms"])
+def test_a_fifo_as_a_recording_is_named_as_such(tmp_path, run_cli, suffix):
+    path = tmp_path / f"r{suffix}"
+    os.mkfifo(path)
+    with _Unblocker(str(path)) as timer:
+        code, out, err = run_cli(["analyze", str(path), "--out", str(tmp_path / "o")])
+    assert not timer.fired
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "it is a FIFO, not a regular file" in err
