@@ -95,7 +95,10 @@ def _secret(path: Path) -> bytes | None:
         if reason is None and len(key) < 32:
             reason = f"cache key {path} is too short (remove it: a new one is made)"
     except OSError as exc:
-        reason = f"cache key {path} cannot be used ({exc.strerror or exc})"
+        reason = (
+            f"cache key {path} cannot be used ({exc.strerror or exc}; "
+            "BRISTLECRAWLER_CACHE_KEY names another file)"
+        )
     if reason is not None:
         warn_once("key", f"{reason}; compiled programs are neither loaded nor stored")
         return None
