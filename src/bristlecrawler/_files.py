@@ -167,7 +167,7 @@ def private_folder(path: str | os.PathLike) -> Path:
             os.mkdir(p, 0o700)
         except FileExistsError:
             continue  # made meanwhile by another process; checked by untrusted()
-        os.chmod(p, 0o700, follow_symlinks=False)
+        os.chmod(p, 0o700)  # a umask that takes the user's own bits off is undone
     return path
 
 
