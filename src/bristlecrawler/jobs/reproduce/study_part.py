@@ -53,8 +53,9 @@ def _sweep(ctx: Context, name: str, text: str):
 
     from bristlecrawler.studies.runner import SweepOptions, run_sweep
 
-    path = ctx.folder / f"study-{name}.toml"
-    path.write_text(text, encoding="utf-8")
+    from bristlecrawler.io.atomic import atomic_write_text
+
+    path = atomic_write_text(ctx.folder / f"study-{name}.toml", text)
     options = SweepOptions(
         out=ctx.folder / f"study-{name}",
         workers=ctx.settings.workers,
