@@ -51,9 +51,8 @@ def _sweep(ctx: Context, name: str, text: str):
     """Run the study ``text`` in ``<folder>/study-<name>/``; its gathered Dataset."""
     import xarray as xr
 
-    from bristlecrawler.studies.runner import SweepOptions, run_sweep
-
     from bristlecrawler.io.atomic import atomic_write_text
+    from bristlecrawler.studies.runner import SweepOptions, run_sweep
 
     path = atomic_write_text(ctx.folder / f"study-{name}.toml", text)
     options = SweepOptions(
