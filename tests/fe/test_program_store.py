@@ -167,7 +167,7 @@ def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
     entry = _entry(f)
     entry.parent.mkdir(parents=True)
     fd = open_lock(entry.with_suffix(".lock"))
-    os.write(fd, b"4242\n")
+    os.write(fd, b"4242 node7\n")
     import fcntl
 
     fcntl.flock(fd, fcntl.LOCK_EX)  # another open file: as another process, it conflicts
@@ -177,7 +177,7 @@ def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
     finally:
         os.close(fd)
     err = capfd.readouterr().err
-    assert "process 4242 is compiling program tests.scale" in err and "waiting" in err
+    assert "process 4242 on node7 is compiling program tests.scale" in err and "waiting" in err
     assert "gave up waiting" in err
 
 

@@ -26,6 +26,7 @@ import hmac
 import os
 import pickle
 import secrets
+import socket
 import sys
 import threading
 import time
@@ -220,7 +221,7 @@ def entry_lock(path: Path, name: str = "a program"):
     try:
         if _wait(fd, fcntl, path, name):
             os.ftruncate(fd, 0)
-            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+            os.pwrite(fd, f"{os.getpid()} {socket.gethostname()}\n".encode(), 0)
         yield
     finally:
         os.close(fd)  # releases the lock
@@ -246,8 +247,10 @@ def _wait(fd: int, fcntl, path: Path, name: str) -> bool:
             return False
         if not said:
             said = True
-            holder = os.pread(fd, 32, 0).decode(errors="replace").strip()
-            who = f"process {holder}" if holder.isdigit() else "another process"
+            holder = os.pread(fd, 300, 0).decode(errors="replace").split()
+            who = "another process"
+            if holder and holder[0].isdigit():
+                who = f"process {holder[0]}" + (f" on {holder[1][:64]}" if holder[1:] else "")
             _say(
                 f"{who} is compiling program {name} (lock {path.with_suffix('.lock')}); "
                 f"waiting for it, at most {LOCK_WAIT_S:g} s"
