@@ -34,6 +34,7 @@ import warnings
 from pathlib import Path
 
 from bristlecrawler._files import (
+    UnfitFile,
     create_new,
     open_lock,
     open_regular,
@@ -215,6 +216,10 @@ def entry_lock(path: Path, name: str = "a program"):
             raise OSError("untrusted folder")
         private_folder(path.parent)
         fd = open_lock(path.with_suffix(".lock"))
+    except UnfitFile as exc:  # a link or a FIFO planted there: never written through
+        warn_once("lock", f"{exc}; compiling without it")
+        yield
+        return
     except (ImportError, OSError):
         yield
         return
