@@ -152,12 +152,17 @@ def test_an_entry_that_is_not_a_regular_file_neither_hangs_nor_crashes(tmp_path,
     else:
         entry.mkdir()
     try:
-        with pytest.warns(program_store.CacheWarning, match="not loaded"):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
             assert _call(f) == [0.0, 2.0, 4.0]
     finally:
         if unblock is not None:
             unblock.stop()
     assert unblock is None or not unblock.fired
+    said = [str(w.message) for w in caught if w.category is program_store.CacheWarning]
+    assert "not loaded" in said[0]
+    # A folder in the entry's place is not replaced either: a second warning says so.
+    assert len(said) == (2 if what == "folder" else 1)
 
 
 def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
