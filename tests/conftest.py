@@ -48,12 +48,10 @@ if "BRISTLECRAWLER_JAX_CACHE" not in os.environ:
     _cache = tempfile.mkdtemp(prefix="bristlecrawler-test-cache-")
     os.environ["BRISTLECRAWLER_JAX_CACHE"] = _cache
     atexit.register(shutil.rmtree, _cache, ignore_errors=True)
+    # Its entries are signed with a key of the run's own too, not the user's in ~/.config
+    # (a folder the user keeps between runs keeps the user's key).
+    os.environ.setdefault("BRISTLECRAWLER_CACHE_KEY", os.path.join(_cache, "cache-key"))
 os.environ.setdefault("BRISTLECRAWLER_XLA_CACHE", "0")
-# The key that signs the stored programs: the run's own, not the user's in ~/.config.
-if "BRISTLECRAWLER_CACHE_KEY" not in os.environ:
-    _key = tempfile.mkdtemp(prefix="bristlecrawler-test-key-")
-    os.environ["BRISTLECRAWLER_CACHE_KEY"] = os.path.join(_key, "cache-key")
-    atexit.register(shutil.rmtree, _key, ignore_errors=True)
 # Every load and compile of a stored program, by every test process and the subprocesses
 # they start, in a file of this run's own, for the report at its end (which structures cost
 # what).

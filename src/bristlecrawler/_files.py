@@ -20,6 +20,11 @@ from pathlib import Path
 _NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
 _NONBLOCK = getattr(os, "O_NONBLOCK", 0)
 _NOCTTY = getattr(os, "O_NOCTTY", 0)
+#: The largest input file read (a scenario, a study, a history, a texture law, a
+#: recording): larger ones are refused before reading rather than filling the memory.
+MAX_INPUT_BYTES = 1 << 30
+#: ... of a small structured file (TOML, JSON), which is a few kB when honest.
+MAX_SMALL_BYTES = 16 << 20
 
 
 class UnfitFile(OSError):
@@ -51,14 +56,14 @@ def open_regular(path: str | os.PathLike, limit: int, follow: bool = True) -> in
         fd = os.open(path, flags)
     except OSError as exc:
         if not follow and os.path.islink(path):
-            raise UnfitFile(f"{path} is a link") from None
+            raise UnfitFile("it is a link") from None
         raise exc
     try:
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
-            raise UnfitFile(f"{path} is {kind(st.st_mode)}, not a regular file")
+            raise UnfitFile(f"it is {kind(st.st_mode)}, not a regular file")
         if st.st_size > limit:
-            raise UnfitFile(f"{path} is {st.st_size:,} bytes, more than {limit:,} allowed")
+            raise UnfitFile(f"it is {st.st_size:,} bytes, more than the {limit:,} allowed")
     except BaseException:
         os.close(fd)
         raise
@@ -72,7 +77,7 @@ def read_bytes(path: str | os.PathLike, limit: int, follow: bool = True) -> byte
     with os.fdopen(fd, "rb") as f:
         data = f.read(limit + 1)
     if len(data) > limit:
-        raise UnfitFile(f"{path} grew past {limit:,} bytes while read")
+        raise UnfitFile(f"it grew past {limit:,} bytes while read")
     return data
 
 
@@ -121,7 +126,8 @@ def create_new(path: str | os.PathLike, mode: int = 0o600) -> int:
     (whatever the umask); FileExistsError if anything, a link included, is there."""
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _NOFOLLOW, mode)
     try:
-        os.fchmod(fd, mode)
+        if hasattr(os, "fchmod"):  # the umask may have taken bits off ``mode``
+            os.fchmod(fd, mode)
     except BaseException:
         os.close(fd)
         raise
@@ -161,7 +167,7 @@ def private_folder(path: str | os.PathLike) -> Path:
             os.mkdir(p, 0o700)
         except FileExistsError:
             continue  # made meanwhile by another process; checked by untrusted()
-        os.chmod(p, 0o700, follow_symlinks=False)
+        os.chmod(p, 0o700)  # a umask that takes the user's own bits off is undone
     return path
 
 

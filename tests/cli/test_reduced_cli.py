@@ -213,3 +213,27 @@ def test_console_script_entry_point():
     )
     assert proc.returncode == 0
     assert json.loads(proc.stdout)["fp_over_k_mm"] == pytest.approx(18 / 19)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--bristles", "10000", "--length", "10000", "--s-max", "0.5"],
+        ["--bristles", "3000", "--length", "10000", "--s-max", "0.5", "--gait", "peristaltic"],
+    ],
+    ids=["breathing", "peristaltic"],
+)
+def test_a_run_past_the_cost_bound_is_refused_with_its_estimate(
+    args, tmp_path, monkeypatch, run_cli
+):
+    """As ``simulate`` and ``drag`` refuse theirs: one line with the estimate, exit 2,
+    before the solver starts and before any folder is made."""
+
+    def never(*a, **k):
+        raise AssertionError("the solver ran")
+
+    monkeypatch.setattr("bristlecrawler.jobs.reduced.simulate", never)
+    code, out, err = run_cli(["reduced", *args, "--out", str(tmp_path / "o")])
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "bristles" in err and "make the work smaller" in err
+    assert list(tmp_path.iterdir()) == []

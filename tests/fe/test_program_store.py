@@ -152,12 +152,17 @@ def test_an_entry_that_is_not_a_regular_file_neither_hangs_nor_crashes(tmp_path,
     else:
         entry.mkdir()
     try:
-        with pytest.warns(program_store.CacheWarning, match="not loaded"):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
             assert _call(f) == [0.0, 2.0, 4.0]
     finally:
         if unblock is not None:
             unblock.stop()
     assert unblock is None or not unblock.fired
+    said = [str(w.message) for w in caught if w.category is program_store.CacheWarning]
+    assert "not loaded" in said[0]
+    # A folder in the entry's place is not replaced either: a second warning says so.
+    assert len(said) == (2 if what == "folder" else 1)
 
 
 def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
@@ -167,7 +172,7 @@ def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
     entry = _entry(f)
     entry.parent.mkdir(parents=True)
     fd = open_lock(entry.with_suffix(".lock"))
-    os.write(fd, b"4242\n")
+    os.write(fd, b"4242 node7\n")
     import fcntl
 
     fcntl.flock(fd, fcntl.LOCK_EX)  # another open file: as another process, it conflicts
@@ -177,7 +182,7 @@ def test_a_lock_held_by_another_process_is_named_and_waited_for_a_bounded_time(
     finally:
         os.close(fd)
     err = capfd.readouterr().err
-    assert "process 4242 is compiling program tests.scale" in err and "waiting" in err
+    assert "process 4242 on node7 is compiling program tests.scale" in err and "waiting" in err
     assert "gave up waiting" in err
 
 
@@ -187,7 +192,8 @@ def test_a_link_where_a_lock_goes_is_not_written_through(tmp_path):
     entry.parent.mkdir(parents=True)
     victim = tmp_path / "victim"
     entry.with_suffix(".lock").symlink_to(victim)  # to nothing: opening it would create it
-    assert _call(f) == [0.0, 2.0, 4.0]
+    with pytest.warns(program_store.CacheWarning, match="is a link"):
+        assert _call(f) == [0.0, 2.0, 4.0]
     assert not victim.exists() and entry.with_suffix(".lock").is_symlink()
 
 
@@ -213,3 +219,30 @@ def test_a_key_others_can_read_turns_the_store_off_with_one_warning(tmp_path):
     with pytest.warns(program_store.CacheWarning, match="read by group or others"):
         assert _call(f) == [0.0, 2.0, 4.0]
     assert not _entry(f).exists() and key.read_text() == "k" * 64
+
+
+def test_jax_s_cache_is_made_private_and_not_used_in_a_folder_others_can_write(
+    tmp_path, monkeypatch
+):
+    """JAX's entries are executables too: its folder is made 0700 whatever the umask, and
+    one that group or others may write is not used (one warning)."""
+    from bristlecrawler.fe.cache import enable_compilation_cache
+
+    monkeypatch.delenv("BRISTLECRAWLER_NO_JAX_CACHE", raising=False)
+    monkeypatch.delenv("BRISTLECRAWLER_XLA_CACHE", raising=False)
+    before = jax.config.jax_compilation_cache_dir
+    try:
+        old = os.umask(0)
+        try:
+            made = enable_compilation_cache(tmp_path / "mine" / "jax")
+        finally:
+            os.umask(old)
+        assert made == tmp_path / "mine" / "jax"
+        assert stat.S_IMODE(made.stat().st_mode) == 0o700
+        shared = tmp_path / "shared"
+        shared.mkdir()
+        shared.chmod(0o777)
+        with pytest.warns(program_store.CacheWarning, match="written by group or others"):
+            assert enable_compilation_cache(shared) is None
+    finally:
+        jax.config.update("jax_compilation_cache_dir", before)

@@ -248,3 +248,63 @@ def test_the_old_key_substrate_mu_in_a_study_reads_as_contact_mu(tmp_path):
     with pytest.raises(InputError, match=r"\[axes\] give contact\.mu, not both it and substrate"):
         with pytest.warns(DeprecatedKeyWarning):
             plan(_study(tmp_path, text))
+
+
+@pytest.mark.parametrize("what", ["missing", "fifo", "device", "not json", "no law"])
+@pytest.mark.parametrize("where", ["set", "axis"])
+def test_a_texture_file_that_cannot_be_used_is_refused_before_any_design(
+    tmp_path, run_cli, what, where
+):
+    """Every design's texture file is read and checked up front: one line, exit 2, no
+    design run and nothing written (not a study whose every design failed)."""
+    import os
+
+    from bristlecrawler.reduced.texture import TextureLaw
+
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps({"texture": TextureLaw.constant(0.4, 1.2, 0.5).to_dict()}))
+    bad = tmp_path / "bad.json"
+    if what == "fifo":
+        os.mkfifo(bad)
+    elif what == "device":
+        bad = "/dev/zero"
+    elif what == "not json":
+        bad.write_text("{")
+    elif what == "no law":
+        bad.write_text("[1, 2]")
+    if where == "set":
+        text = REDUCED.format(axes="s_max = [5.0, 10.0]").replace(
+            "cycles = 3", f"cycles = 3\ntexture = {json.dumps(str(bad))}"
+        )
+    else:
+        text = REDUCED.format(axes=f"texture = {json.dumps([str(good), str(bad)])}")
+    with pytest.raises(InputError, match="texture"):
+        plan(_study(tmp_path, text))
+    out = tmp_path / "out"
+    code, stdout, err = run_cli(["sweep", _study(tmp_path, text), "--out", str(out)])
+    assert code == 2 and stdout == "" and err.count("\n") == 1 and "texture" in err
+    assert not out.exists()
+
+
+def test_a_history_file_that_is_missing_is_refused_before_any_design(tmp_path):
+    text = REDUCED.format(axes="s_max = [5.0, 10.0]").replace(
+        "cycles = 3", f"cycles = 3\nhistory = {json.dumps(str(tmp_path / 'none.csv'))}"
+    )
+    with pytest.raises(InputError, match="history file not found"):
+        plan(_study(tmp_path, text))
+
+
+@pytest.mark.parametrize("value", ["3", "[1, 2]", '"x"'])
+def test_a_reduced_base_whose_table_is_not_a_table_is_one_line(tmp_path, value):
+    (tmp_path / "base.toml").write_text(f"reduced = {value}\n")
+    text = REDUCED.format(axes="s_max = [5.0, 10.0]")
+    with pytest.raises(InputError, match=r"\[reduced\] must be a table"):
+        plan(_study(tmp_path, 'base = "base.toml"\n' + text))
+
+
+def test_a_reduced_design_past_the_cost_bound_is_refused_before_any_design(tmp_path):
+    text = REDUCED.format(axes="bristles = [2, 10000]").replace(
+        "cycles = 3", "cycles = 3\ns_max = 0.5\nlength = 10000.0"
+    )
+    with pytest.raises(InputError, match=r"10,000 bristles.*CPU time"):
+        plan(_study(tmp_path, text))

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bristlecrawler._files import open_regular
 from bristlecrawler.errors import InputError
 from bristlecrawler.experiment.recording import DEFAULT_RATE_HZ, Recording
 
@@ -83,6 +84,8 @@ def _build(columns: dict[str, np.ndarray], cmap: ChannelMap, source: str, dt: fl
 #: Data rows parsed at a time: a large recording is read in chunks of this many rows, so
 #: that its text is never held whole (the samples, as float64, are what stays).
 CHUNK_ROWS = 65_536
+#: The largest recording read: far beyond any test rig's, it only stops a runaway file.
+MAX_RECORDING_BYTES = 1 << 36
 
 
 def read_csv(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recording:
@@ -93,10 +96,9 @@ def read_csv(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recordi
     """
     cmap = cmap or ChannelMap()
     path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise InputError(f"recording not found: {path}")
+    fd = _open_recording(path)
     try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
+        with open(fd, newline="", encoding="utf-8-sig") as fh:
             rows = (r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#"))
             header = [h.strip() for h in next(rows, [])]
             if header and all(_is_number(h) for h in header if h):
@@ -123,6 +125,17 @@ def read_csv(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recordi
         keep = np.isfinite(columns[cmap.time])
         columns = {h: v[keep] for h, v in columns.items()}
     return _build(columns, cmap, path, None)
+
+
+def _open_recording(path: str) -> int:
+    """A descriptor of the recording ``path``, checked to be a regular file (a FIFO would
+    block the reader forever, a device never end); InputError otherwise."""
+    try:
+        return open_regular(path, MAX_RECORDING_BYTES)
+    except FileNotFoundError:
+        raise InputError(f"recording not found: {path}") from None
+    except OSError as exc:
+        raise InputError(f"cannot read recording {path}: {exc.strerror or exc}") from None
 
 
 def _read_rows(rows, header: list[str], path: str):
@@ -191,8 +204,7 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
         raise InputError("reading TDMS needs npTDMS: pip install npTDMS") from None
     cmap = cmap or ChannelMap()
     path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise InputError(f"recording not found: {path}")
+    os.close(_open_recording(path))
     try:
         tdms = TdmsFile.read(path)
     except Exception as exc:  # npTDMS raises several types for corrupt files
@@ -208,12 +220,22 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
     else:
         group = next((g for g in groups if cmap.left in [c.name for c in g.channels()]), groups[0])
     _check_named([c.name for c in group.channels()], cmap, path)
-    columns = {c.name: np.asarray(c[:], dtype=float) for c in group.channels()}
+    columns = {c.name: _numbers(c, path) for c in group.channels()}
     left = group[cmap.left] if cmap.left in columns else None
     dt = None
     if left is not None and "wf_increment" in left.properties:
         dt = float(left.properties["wf_increment"])
     return _build(columns, cmap, path, dt)
+
+
+def _numbers(channel, path: str) -> np.ndarray:
+    """A TDMS channel's samples as floats; InputError for a channel of text or times."""
+    try:
+        return np.asarray(channel[:], dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"{path}: TDMS channel '{channel.name}' does not hold numbers"[:300]
+        ) from None
 
 
 def read_recording(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recording:

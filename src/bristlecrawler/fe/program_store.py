@@ -26,6 +26,7 @@ import hmac
 import os
 import pickle
 import secrets
+import socket
 import sys
 import threading
 import time
@@ -33,6 +34,7 @@ import warnings
 from pathlib import Path
 
 from bristlecrawler._files import (
+    UnfitFile,
     create_new,
     open_lock,
     open_regular,
@@ -95,7 +97,10 @@ def _secret(path: Path) -> bytes | None:
         if reason is None and len(key) < 32:
             reason = f"cache key {path} is too short (remove it: a new one is made)"
     except OSError as exc:
-        reason = f"cache key {path} cannot be used ({exc.strerror or exc})"
+        reason = (
+            f"cache key {path} cannot be used ({exc.strerror or exc}; "
+            "BRISTLECRAWLER_CACHE_KEY names another file)"
+        )
     if reason is not None:
         warn_once("key", f"{reason}; compiled programs are neither loaded nor stored")
         return None
@@ -211,13 +216,17 @@ def entry_lock(path: Path, name: str = "a program"):
             raise OSError("untrusted folder")
         private_folder(path.parent)
         fd = open_lock(path.with_suffix(".lock"))
+    except UnfitFile as exc:  # a link or a FIFO planted there: never written through
+        warn_once("lock", f"{exc}; compiling without it")
+        yield
+        return
     except (ImportError, OSError):
         yield
         return
     try:
         if _wait(fd, fcntl, path, name):
             os.ftruncate(fd, 0)
-            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+            os.pwrite(fd, f"{os.getpid()} {socket.gethostname()}\n".encode(), 0)
         yield
     finally:
         os.close(fd)  # releases the lock
@@ -243,8 +252,10 @@ def _wait(fd: int, fcntl, path: Path, name: str) -> bool:
             return False
         if not said:
             said = True
-            holder = os.pread(fd, 32, 0).decode(errors="replace").strip()
-            who = f"process {holder}" if holder.isdigit() else "another process"
+            holder = os.pread(fd, 300, 0).decode(errors="replace").split()
+            who = "another process"
+            if holder and holder[0].isdigit():
+                who = f"process {holder[0]}" + (f" on {holder[1][:64]}" if holder[1:] else "")
             _say(
                 f"{who} is compiling program {name} (lock {path.with_suffix('.lock')}); "
                 f"waiting for it, at most {LOCK_WAIT_S:g} s"

@@ -10,6 +10,7 @@ from bristlecrawler.reduced import closed_form as cf
 from bristlecrawler.reduced.metrics import RunMetrics
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import ReducedResult
+from bristlecrawler.scenario.cost import MAX_REDUCED_S, reduced_run
 from bristlecrawler.scenario.reduced import ReducedConfig, build
 
 #: The exact solver closes the energy balance to round-off; a residual above this flags a
@@ -68,6 +69,11 @@ def _fp_over_k(crawler, config: ReducedConfig) -> float:
     return float(law.mean_fp_N / law.k_N_per_mm)
 
 
+def reduced_estimate(config: ReducedConfig):
+    """The a-priori cost of ``config``'s run (:func:`bristlecrawler.scenario.cost.reduced_run`)."""
+    return reduced_run(config.bristles, config.cycles, config.samples_per_cycle, config.gait)
+
+
 def run_reduced(
     config: ReducedConfig,
     out: str | Path | None = None,
@@ -82,6 +88,7 @@ def run_reduced(
     The folder is claimed before the solve and appears complete or not at all
     (:func:`bristlecrawler.io.runs.claim_run_dir`; ``replace`` replaces a run already there).
     """
+    reduced_estimate(config).check(None, max_seconds=MAX_REDUCED_S)  # before any work
     crawler, gait = build(config)
     if not write:
         result = simulate(crawler, gait, config.cycles, config.samples_per_cycle)

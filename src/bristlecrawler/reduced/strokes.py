@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bristlecrawler._files import MAX_INPUT_BYTES, open_regular
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced._checks import positive
 
@@ -130,11 +131,16 @@ def read_history_csv(path: str) -> SampledStroke:
 
     if not isinstance(path, str | os.PathLike):
         raise InputError(f"history must be a file name, got {path!r}")
-    if not os.path.isfile(path):
-        raise InputError(f"history file not found: {path}")
+    try:
+        # Checked before reading: a FIFO would hang, a device or a huge file fill the memory.
+        fd = open_regular(path, MAX_INPUT_BYTES)
+    except FileNotFoundError:
+        raise InputError(f"history file not found: {path}") from None
+    except OSError as exc:
+        raise InputError(f"cannot read history file {path}: {exc.strerror or exc}") from None
     try:
         # utf-8-sig: spreadsheet programs start a CSV with a byte-order mark.
-        with open(path, newline="", encoding="utf-8-sig") as fh:
+        with open(fd, newline="", encoding="utf-8-sig") as fh:
             reader = csv.reader(
                 row for row in fh if row.strip() and not row.lstrip().startswith("#")
             )
@@ -164,5 +170,5 @@ def read_history_csv(path: str) -> SampledStroke:
     except csv.Error as exc:
         raise InputError(f"history file {path} is not a readable CSV file ({exc})") from None
     except OSError as exc:
-        raise InputError(f"cannot read history file {path}: {exc.strerror}") from None
+        raise InputError(f"cannot read history file {path}: {exc.strerror or exc}") from None
     return SampledStroke(np.array(t), np.array(s))

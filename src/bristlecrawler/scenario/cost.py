@@ -30,6 +30,19 @@ RECORD_BYTES_PER_NODE = 200.0
 #: designs) and the exact solver (0.037 s for 2 bristles, 0.24 s for 10 peristaltic).
 REDUCED_CLOSED_FORM_S = 1.3e-7
 REDUCED_EXACT_S = 0.24
+#: Reduced exact solver, CPU seconds per cycle for N bristles: a N^2 + b N^3 in the
+#: breathing gait (0.15 s for 100 bristles over 5 cycles, 1.8 s for 400, 20 s for 1,000
+#: over 2 cycles, on a shared 2-core machine: rounded up), times REDUCED_PERISTALTIC in the
+#: peristaltic gait (12.8 s for 400 bristles over one cycle), whose stick/slip events
+#: also add about REDUCED_SAMPLES_PER_N2 N^2 samples per cycle to its record.
+REDUCED_CYCLE_S_N2, REDUCED_CYCLE_S_N3 = 2e-6, 1e-8
+REDUCED_PERISTALTIC = 15.0
+REDUCED_SAMPLES_PER_N2 = 1.5
+#: Bytes a reduced run keeps per sample and bristle (positions, forces, states).
+REDUCED_BYTES = 32.0
+#: CPU time past which one reduced run is refused, s: the exact solver is for designs of
+#: seconds, and a run of hours is a design with far too many bristles.
+MAX_REDUCED_S = 600.0
 #: Memory of one Dask worker process: 270 MB with JAX and the models imported, doubled
 #: for a compiled FE model and its records.
 WORKER_BYTES = 0.55e9
@@ -74,8 +87,11 @@ class Estimate:
             f"{_bytes(self.memory)} of memory{disk}"
         )
 
-    def check(self, max_steps: float | None = MAX_STEPS, where: str = ".") -> Estimate:
-        """InputError, with the estimate, where the machine cannot hold the work."""
+    def check(
+        self, max_steps: float | None = MAX_STEPS, where: str = ".", max_seconds: float = math.inf
+    ) -> Estimate:
+        """InputError, with the estimate, where the machine cannot hold the work (or it
+        would take more than ``max_seconds`` of CPU time)."""
         limit = machine_memory()
         if not (self.memory <= 0.8 * limit):
             raise InputError(
@@ -91,6 +107,11 @@ class Estimate:
         if max_steps is not None and not (self.steps <= max_steps):
             raise InputError(
                 f"{self.text()}: more than {max_steps:g} {self.unit}; make the work smaller"
+            )
+        if not (self.seconds <= max_seconds):
+            raise InputError(
+                f"{self.text()}: more than {duration(max_seconds)} of CPU time; make the "
+                "work smaller"
             )
         return self
 
@@ -116,6 +137,19 @@ def fe_crawler(sc) -> Estimate | None:
     return fe_run(
         "the run", stroke, sc.solver.dt_max, b.count * b.elements, b.count * (b.elements + 2)
     )
+
+
+def reduced_run(bristles: int, cycles: int, samples_per_cycle: int, gait: str) -> Estimate:
+    """One run of the reduced model's exact solver (see :data:`REDUCED_CYCLE_S_N2`)."""
+    n = float(bristles)
+    seconds = cycles * (REDUCED_CYCLE_S_N2 * n**2 + REDUCED_CYCLE_S_N3 * n**3)
+    samples = float(samples_per_cycle)
+    if gait == "peristaltic":
+        seconds *= REDUCED_PERISTALTIC
+        samples += REDUCED_SAMPLES_PER_N2 * n**2
+    samples *= cycles
+    what = f"the reduced model with {bristles:,} bristles"
+    return Estimate(what, samples, "samples", seconds, samples * n * REDUCED_BYTES)
 
 
 def study(

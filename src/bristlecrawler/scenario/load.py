@@ -122,10 +122,12 @@ def _is_path(text: str) -> bool:
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
-    if not path.is_file():
+    from bristlecrawler._files import MAX_SMALL_BYTES, read_text
+
+    if not path.exists():
         raise InputError(f"scenario file not found: {path}")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
+        data = tomllib.loads(read_text(path, MAX_SMALL_BYTES, encoding="utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: invalid TOML ({exc})") from None
     except UnicodeDecodeError:
@@ -133,7 +135,7 @@ def _read_toml(path: Path) -> dict[str, Any]:
     except RecursionError:
         raise InputError(f"{path}: tables or arrays nested too deeply") from None
     except OSError as exc:
-        raise InputError(f"cannot read scenario file {path}: {exc.strerror}") from None
+        raise InputError(f"cannot read scenario file {path}: {exc.strerror or exc}") from None
     act = data.get("actuation", {})
     history = act.get("history") if isinstance(act, dict) else None
     if isinstance(history, str) and history and not Path(history).is_absolute():

@@ -162,13 +162,18 @@ def read_texture(path: str | Path):
     JSON file holding the law itself; InputError (one line) otherwise."""
     import json
 
+    from bristlecrawler._files import MAX_SMALL_BYTES, read_bytes
     from bristlecrawler.errors import InputError
     from bristlecrawler.reduced.texture import TextureLaw
 
     try:
-        data = json.loads(Path(path).read_text())
-    except (OSError, ValueError) as err:
-        raise InputError(f"texture {path}: cannot read a JSON file ({err})") from None
+        data = json.loads(read_bytes(path, MAX_SMALL_BYTES))
+    except FileNotFoundError:
+        raise InputError(f"texture file not found: {path}") from None
+    except OSError as err:
+        raise InputError(f"texture {path}: cannot read it ({err.strerror or err})") from None
+    except (ValueError, RecursionError) as err:
+        raise InputError(f"texture {path}: not a JSON file ({err})"[:300]) from None
     law = data.get("texture", data) if isinstance(data, dict) else None
     if not isinstance(law, dict):
         raise InputError(f"texture {path}: no texture law (run a drag test with direction cycle)")

@@ -86,6 +86,7 @@ def resolve_base(study: Study, folder: Path | None) -> Base:
 def _reduced_base(study: Study, folder: Path | None) -> dict[str, Any]:
     import tomllib
 
+    from bristlecrawler._files import MAX_SMALL_BYTES, read_text
     from bristlecrawler.scenario.reduced import ReducedConfig
     from bristlecrawler.scenario.strict import parse_model
 
@@ -97,10 +98,14 @@ def _reduced_base(study: Study, folder: Path | None) -> dict[str, Any]:
         if not path.is_file():
             raise InputError(f"reduced base: 'paper' or a TOML file of its options, got {path}")
         try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
+            data = tomllib.loads(read_text(path, MAX_SMALL_BYTES))
         except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
             raise InputError(f"{path}: invalid TOML ({exc})") from None
+        except OSError as exc:
+            raise InputError(f"cannot read reduced base {path}: {exc.strerror or exc}") from None
         data = data.get("reduced", data)
+        if not isinstance(data, dict):
+            raise InputError(f"{path}: [reduced] must be a table of the reduced model's options")
     for key in list(study.set) + list(study.axes):
         if key not in ReducedConfig.model_fields:
             where = "[set]" if key in study.set else "[axes]"

@@ -87,7 +87,7 @@ def plan(study_ref: str, opt: SweepOptions | None = None) -> Plan:
     study, folder = load_study(study_ref)
     base = resolve_base(study, folder)
     designs = expand(study, base)
-    cost = estimate(study, base, designs.n, opt)
+    cost = estimate(study, base, designs.n, opt, designs)
     validate_designs(base, designs)
     identity = study.model_dump(mode="json", exclude={"base", "description"})
     resolved: dict[str, Any] = {"study": identity, "base_config": base.config}
@@ -96,9 +96,13 @@ def plan(study_ref: str, opt: SweepOptions | None = None) -> Plan:
     return Plan(study, base, designs, resolved, cost)
 
 
-def estimate(study: Study, base: Base, n: int, opt: SweepOptions) -> Estimate:
+def estimate(
+    study: Study, base: Base, n: int, opt: SweepOptions, designs: Designs | None = None
+) -> Estimate:
     """The study's designs, CPU time, memory and disk (:mod:`scenario.cost`), checked
-    against the machine; local workers are counted in, a scheduler's are not."""
+    against the machine; local workers are counted in, a scheduler's are not. A reduced
+    study's costliest design (most bristles, cycles and samples) is checked as ``reduced``
+    checks one run."""
     from bristlecrawler.scenario import cost
 
     workers = 0 if opt.scheduler is not None else opt.workers or os.cpu_count() or 1
@@ -113,10 +117,33 @@ def estimate(study: Study, base: Base, n: int, opt: SweepOptions) -> Estimate:
         closed = study.reduced_solver == "auto" and "bristles" not in study.axes
         closed &= cfg["bristles"] == 2 and cfg["history"] is None
         design_s = cost.REDUCED_CLOSED_FORM_S if closed else cost.REDUCED_EXACT_S
+        if not closed:
+            design_s = max(design_s, _costliest_reduced(cfg, designs).seconds)
         compile_s = 0.0
     tasks = -(-n // study.tasks_chunk)
     found = cost.study(study.name, n, tasks, design_s, workers, compile_s)
     return found.check(None, str(opt.out or "runs"))
+
+
+def _costliest_reduced(cfg: dict, designs: Designs | None) -> Estimate:
+    """The reduced run of the designs' largest bristle count, cycles and samples, checked
+    (InputError with its estimate where one run is past what ``reduced`` runs)."""
+    from bristlecrawler.scenario import cost
+
+    def most(key: str) -> int:
+        if designs is not None and key in designs.keys:
+            return int(np.max(designs.values[key]))
+        return int(cfg[key])
+
+    gaits = [cfg["gait"]]
+    if designs is not None and "gait" in designs.keys:
+        gaits = list(np.unique(designs.values["gait"]))
+    gait = "peristaltic" if "peristaltic" in gaits else gaits[0]
+    run = cost.reduced_run(most("bristles"), most("cycles"), most("samples_per_cycle"), gait)
+    try:
+        return run.check(None, max_seconds=cost.MAX_REDUCED_S)
+    except InputError as exc:
+        raise InputError(f"the study's costliest design: {exc}") from None
 
 
 def task_count(p: Plan, finished: set[int]) -> tuple[int, int]:

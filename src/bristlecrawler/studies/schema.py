@@ -204,10 +204,14 @@ def load_study(name_or_path: str) -> tuple[Study, Path | None]:
     if name_or_path.endswith(".toml") or path.exists():
         if not path.is_file():
             raise InputError(f"study file not found: {path}")
+        from bristlecrawler._files import MAX_SMALL_BYTES, read_text
+
         try:
-            text = path.read_text(encoding="utf-8")
+            text = read_text(path, MAX_SMALL_BYTES)
         except UnicodeDecodeError:
             raise InputError(f"{path}: not a UTF-8 text file") from None
+        except OSError as exc:
+            raise InputError(f"cannot read study file {path}: {exc.strerror or exc}") from None
         data, origin, folder = _parse(text, str(path)), str(path), path.parent
     else:
         names = available_studies()

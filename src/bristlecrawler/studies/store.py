@@ -57,10 +57,14 @@ def check_folder(out: Path, resolved: dict[str, Any], resume: bool) -> bool:
         if out.is_dir() and any(out.iterdir()):
             raise InputError(f"output folder {out} is not empty and holds no study")
         return False
+    from bristlecrawler._files import MAX_SMALL_BYTES, read_bytes
+
     try:
-        held = json.loads(study_file.read_text(encoding="utf-8"))
+        held = json.loads(read_bytes(study_file, MAX_SMALL_BYTES))
     except (OSError, ValueError) as exc:
         raise InputError(f"{study_file}: unreadable ({exc})") from None
+    if not isinstance(held, dict):
+        raise InputError(f"{study_file}: not a study's record (a JSON object)")
     if held.get("fingerprint") != resolved["fingerprint"]:
         raise InputError(
             f"output folder {out} holds another study's results "

@@ -22,11 +22,46 @@ FE_FULL_CHECK = 2_000
 
 
 def validate_designs(base: Base, designs: Designs) -> None:
-    """InputError naming the first design that the model's schema refuses."""
+    """InputError naming the first design that the model's schema refuses, or whose
+    texture or history file cannot be read."""
     if base.model == "fe":
         _validate_fe(base, designs)
     else:
         _validate_reduced(base, designs)
+    check_files(base, designs)
+
+
+def check_files(base: Base, designs: Designs) -> None:
+    """Read and check every distinct texture and history file the designs name, before
+    the first design starts: a missing, unreadable or malformed one (a FIFO, a device)
+    is one InputError, not a study whose every design fails."""
+    from bristlecrawler.reduced.strokes import read_history_csv
+    from bristlecrawler.scenario.reduced import read_texture
+
+    if base.model == "fe":
+        act = base.config.get("actuation", {})
+        readers = {"actuation.history": (read_history_csv, act.get("history"))}
+    else:
+        readers = {
+            "texture": (read_texture, base.config.get("texture")),
+            "history": (read_history_csv, base.config.get("history")),
+        }
+    for key, (read, value) in readers.items():
+        if key in designs.keys:
+            seen: set[str] = set()
+            for i, v in enumerate(designs.values[key].tolist()):
+                if isinstance(v, str) and v not in seen:
+                    seen.add(v)
+                    _read(read, v, designs.label(i))
+        elif isinstance(value, str) and value:
+            _read(read, value, f"[set] {key}" if key else "base")
+
+
+def _read(read, path: str, where: str) -> None:
+    try:
+        read(path)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
 
 
 def _validate_fe(base: Base, designs: Designs) -> None:

@@ -51,10 +51,10 @@ def _sweep(ctx: Context, name: str, text: str):
     """Run the study ``text`` in ``<folder>/study-<name>/``; its gathered Dataset."""
     import xarray as xr
 
+    from bristlecrawler.io.atomic import atomic_write_text
     from bristlecrawler.studies.runner import SweepOptions, run_sweep
 
-    path = ctx.folder / f"study-{name}.toml"
-    path.write_text(text, encoding="utf-8")
+    path = atomic_write_text(ctx.folder / f"study-{name}.toml", text)
     options = SweepOptions(
         out=ctx.folder / f"study-{name}",
         workers=ctx.settings.workers,
