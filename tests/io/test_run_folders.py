@@ -260,6 +260,18 @@ def test_a_run_inside_another_run_s_folder_is_refused(tmp_path, run_cli, status)
     assert _tree(tmp_path) == before
 
 
+def test_a_run_may_hold_the_runs_it_writes_itself(tmp_path):
+    """``reproduce`` writes its design studies inside its own folder while it runs; that
+    is not a run inside another's. Once it is finished, a run inside it is refused."""
+    with claim_run_dir(tmp_path / "outer", "outer") as outer:
+        outer.write_metadata({}, "outer")
+        with claim_run_dir(outer.path / "inner", "inner") as inner:
+            inner.write_metadata({}, "inner")
+    assert run_status(tmp_path / "outer" / "inner") == "complete"
+    with pytest.raises(InputError, match="inside the run"):
+        claim_run_dir(tmp_path / "outer" / "other", "other")
+
+
 def test_a_fifo_as_a_run_s_meta_json_does_not_hang(tmp_path, run_cli):
     import threading
 

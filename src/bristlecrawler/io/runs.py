@@ -102,10 +102,17 @@ def check_out_dir(out: str | os.PathLike | None, replace: bool = False) -> None:
     _check_state(path, replace)
 
 
+#: The partial folders of the runs this process is writing (real paths): a run may hold
+#: the runs it writes itself (``reproduce`` writes its design studies inside its folder).
+_WRITING: set[str] = set()
+
+
 def _check_not_nested(path: Path) -> None:
     """InputError if ``path`` lies inside another run's folder: a run folder is a unit,
     replaced or removed whole, and a run inside it would go with it."""
     for above in Path(os.path.realpath(path)).parents:
+        if str(above) in _WRITING:
+            return
         if (above / "meta.json").exists() and run_status(above) not in (None, "other"):
             raise InputError(
                 f"output folder {shown(path)} is inside the run in {shown(above)}; give a "
@@ -195,11 +202,13 @@ class RunFolder:
         self._results: str | None = None
         self._meta: dict[str, Any] = {"run_id": target.name, "status": RUNNING}
         self.path = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
+        self._writing = os.path.realpath(self.path)
         try:
             os.chmod(self.path, 0o777 & ~_umask())
         except BaseException:  # Ctrl-C included: no partial folder without its run
             self.discard()
             raise
+        _WRITING.add(self._writing)
 
     def __enter__(self) -> RunFolder:
         return self
@@ -243,6 +252,7 @@ class RunFolder:
             shutil.rmtree(self.path, ignore_errors=True)
 
     def __exit__(self, kind, exc, tb) -> None:
+        _WRITING.discard(self._writing)
         try:
             if exc is None:
                 self.commit()
