@@ -2,11 +2,6 @@
 with ``--no-progress``; the stage notes (the compile announcement) in both forms."""
 
 import io
-import os
-import pty
-import select
-import subprocess
-import sys
 import textwrap
 from pathlib import Path
 
@@ -14,6 +9,7 @@ import pytest
 
 from bristlecrawler.viz.parts_progress import parts_progress
 from bristlecrawler.viz.progress import progress_mode, sim_progress
+from terminal import under_a_terminal
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -108,37 +104,10 @@ SCRIPT = textwrap.dedent(
 )
 
 
-def _under_a_terminal(code: str) -> str:
-    """stderr and stdout of ``python -c code`` run on a pseudo-terminal."""
-    leader, follower = pty.openpty()
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), COLUMNS="120", TERM="xterm")
-    env.pop("NO_COLOR", None)
-    env.pop("FORCE_COLOR", None)
-    proc = subprocess.Popen(
-        [sys.executable, "-c", code], stdin=follower, stdout=follower, stderr=follower, env=env
-    )
-    os.close(follower)
-    chunks = []
-    while True:
-        ready, _, _ = select.select([leader], [], [], 30)
-        if not ready:
-            break
-        try:
-            data = os.read(leader, 65536)
-        except OSError:  # the child closed the terminal
-            break
-        if not data:
-            break
-        chunks.append(data)
-    proc.wait(timeout=30)
-    os.close(leader)
-    return b"".join(chunks).decode("utf-8", "replace")
-
-
 def test_on_a_pseudo_terminal_the_default_draws_bars():
     """What a user sees in a terminal without options: rich's bars (the cursor moved to
     redraw them), the compile note as a line of its own, no log lines."""
-    out = _under_a_terminal(SCRIPT)
+    out = under_a_terminal(["python", "-c", SCRIPT])
     assert "\x1b[" in out, out[-2000:]  # terminal control: bars being redrawn
     assert "━" in out or "█" in out, out[-2000:]
     assert "NOTE compiling" in out
