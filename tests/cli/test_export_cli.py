@@ -73,3 +73,9 @@ def test_crosscheck_without_calculix_says_how_to_install_it(tmp_path):
     r = _run("crosscheck", "drag", "paper", env={"PATH": str(tmp_path)}, cwd=tmp_path)
     assert r.returncode == 2 and "apt-get install calculix-ccx" in r.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_crosscheck_group_lists_its_commands_whole():
+    r = _run("crosscheck", "--help", env={"COLUMNS": "80"})
+    assert r.returncode == 0
+    assert "in CalculiX (ccx) and in the toolkit." in " ".join(r.stdout.split())

@@ -15,8 +15,8 @@ import sys
 import warnings
 
 import typer
-from typer.core import TyperGroup
 
+from bristlecrawler.cli.groups import WholeSummaries
 from bristlecrawler.errors import InputError, Interrupted, SolverError
 
 #: The order in which ``--help`` lists the commands: as a user meets them, from the paper's
@@ -40,16 +40,9 @@ COMMAND_ORDER = (
 )
 
 
-class _Commands(TyperGroup):
+class _Commands(WholeSummaries):
     """The top-level group: commands in :data:`COMMAND_ORDER`, each listed with its help's
-    whole first sentence (click cuts a summary at a width of its own, even on a wide
-    terminal)."""
-
-    def __init__(self, **attrs) -> None:
-        super().__init__(**attrs)
-        for cmd in self.commands.values():
-            if not cmd.short_help and cmd.help:
-                cmd.short_help = cmd.get_short_help_str(limit=10_000)
+    whole first sentence."""
 
     def list_commands(self, ctx) -> list[str]:
         rank = {name: i for i, name in enumerate(COMMAND_ORDER)}

@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.groups import WholeSummaries
 from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
 
 ScenarioArg = Annotated[
@@ -103,6 +104,7 @@ def _check_folder(out: Path, texts: dict[str, str]) -> None:
 
 
 crosscheck_app = typer.Typer(
+    cls=WholeSummaries,
     help="Run a design's test in another FE code and compare it with the toolkit's.",
     no_args_is_help=True,
 )

@@ -7,7 +7,10 @@ from typing import Annotated
 
 import typer
 
+from bristlecrawler.cli.groups import WholeSummaries
+
 scenario_app = typer.Typer(
+    cls=WholeSummaries,
     name="scenario",
     help="Shipped scenarios of the FE crawler and the keys of a scenario file.",
     no_args_is_help=True,
