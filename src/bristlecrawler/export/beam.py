@@ -194,7 +194,6 @@ def drag_beam_deck(
         nodes=b.elements + 1,
         elements=b.elements + 1,
         width=b.width,
-        sets={"carriage": "CARRIAGE", "tip": "TIP"},
     )
     return d.text(), info
 

@@ -76,8 +76,8 @@ class ContinuumOptions:
 class DeckInfo:
     """What a deck holds, for the parsers and the tests: the load on the clamp (N), the
     bristle's own weight (N), the path's knots (s, mm), the start of the path (s), the
-    node and element counts, the bristle's width b (mm), the names of the sets the
-    outputs use and the thickness of the modelled slice (mm; 0: the whole width)."""
+    node and element counts, the bristle's width b (mm) and the thickness of the
+    modelled slice (mm; 0: the whole width)."""
 
     load: float
     bristle_weight: float
@@ -86,7 +86,6 @@ class DeckInfo:
     nodes: int
     elements: int
     width: float
-    sets: dict
     slice: float = 0.0
 
     @property
@@ -200,7 +199,6 @@ def continuum_deck(
         nodes=len(bristle) + len(subst),
         elements=len(mesh.elements) + len(sub_quads),
         width=b.width,
-        sets={"carriage": "CLAMP", "substrate": "SUBSTRATE_NODES", "tip": "TIP"},
         slice=thick,
     )
     return d.text(), info
