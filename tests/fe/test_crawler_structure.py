@@ -21,11 +21,12 @@ from bristlecrawler.fe import (
     solve_static,
 )
 from bristlecrawler.fe.static import static_residual
+from bristlecrawler.fe.terms import Term
 from bristlecrawler.verification.structures import two_bristle_crawler
 
 
 @dataclasses.dataclass(frozen=True)
-class PenaltyFloor:
+class PenaltyFloor(Term):
     """Toy contact: penalty floor y >= y0 at ``nodes`` with a Coulomb-limited tangential
     spring to a stick anchor (history), return-mapped at commit. params = (kn N/mm,
     kt N/mm, mu, y0 mm)."""
@@ -160,3 +161,27 @@ def test_hht_follows_actuated_length(model, equilibrium):
     assert out.ok
     expected = 100.0 - 20.0 * np.sin(np.pi * out.times / 20.0) ** 2
     assert np.allclose(out.observed, expected, rtol=1e-12)
+
+
+def test_an_extra_term_must_subclass_term():
+    """The solvers ask a term only what :class:`fe.Term` declares (its hooks have defaults),
+    so an object that merely looks like a term is refused where it is added, with a line
+    naming its type, instead of failing inside a compiled step."""
+    from bristlecrawler import fe
+    from bristlecrawler.errors import InputError
+
+    class LooksLikeATerm:
+        def residual(self, u, v, t, history, params):
+            return u
+
+        def init_history(self, topology, params):
+            return ()
+
+        def commit(self, u, v, t, history, params):
+            return history
+
+    with pytest.raises(InputError, match="LooksLikeATerm"):
+        fe.Structure().add_term(LooksLikeATerm())
+    floor = PenaltyFloor((0,))
+    assert floor.couplings() == () and floor.active is None and not floor.freezes
+    assert floor.penetration(None, None) is None

@@ -63,6 +63,7 @@ from bristlecrawler.contact.outline import (
 from bristlecrawler.contact.profile import profile_chain
 from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.terms import Term
 
 _host_chain = jax.jit(profile_chain)
 
@@ -153,7 +154,7 @@ def _pulled(current, pull, law, drop=None, mode=None):
 
 
 @dataclasses.dataclass(frozen=True)
-class FaceCornerContact:
+class FaceCornerContact(Term):
     """Contact of closed beam outlines ``faces`` (each a tuple of FE node indices, one per
     outline point, first repeated last: see :func:`beam_outline`; static, hashable) with
     the convex corners of a periodic rigid substrate, ``periods`` periods of corners in each

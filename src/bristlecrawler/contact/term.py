@@ -25,6 +25,7 @@ from bristlecrawler.contact.coulomb import CoulombLaw, frozen_status
 from bristlecrawler.contact.node import node_force, node_step
 from bristlecrawler.contact.profile import project
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.terms import Term
 
 
 def _is_zero(t) -> bool:
@@ -140,7 +141,7 @@ def profile_top(substrate) -> jax.Array:
 
 
 @dataclasses.dataclass(frozen=True)
-class SubstrateContact:
+class SubstrateContact(Term):
     """Contact of points attached to the FE nodes ``nodes`` (static, hashable) with a rigid
     substrate. A node may carry several points (listed once per point, with different
     offsets in :class:`ContactParams`).

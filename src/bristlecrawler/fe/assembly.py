@@ -143,7 +143,7 @@ def terms_residual(u, v, t, history, params, terms, freeze=False):
     :func:`bristlecrawler.fe.newton.newton`); the others ignore it."""
     out = jnp.zeros_like(u)
     for term, p, h in zip(terms, params.extra, history, strict=True):
-        if freeze is not False and getattr(term, "freezes", False):
+        if freeze is not False and term.freezes:
             out = out + term.residual(u, v, t, h, p, freeze=freeze)
         else:
             out = out + term.residual(u, v, t, h, p)

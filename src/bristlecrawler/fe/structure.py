@@ -223,6 +223,12 @@ class Structure:
     def add_term(self, term, params=()) -> None:
         """Extra residual term (contact, ...), see :mod:`bristlecrawler.fe.terms`; the node
         groups it declares with ``couplings()`` widen the tangent's band at :meth:`build`."""
+        from bristlecrawler.fe.terms import Term
+
+        if not isinstance(term, Term):
+            raise InputError(
+                f"an extra term must subclass bristlecrawler.fe.Term, got {type(term).__name__}"
+            )
         self._terms.append((term, params))
 
     # -- assembly -----------------------------------------------------------------------
