@@ -37,6 +37,7 @@ from bristlecrawler.io.atomic import atomic_write_text
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.io.output_paths import (
     check_new_file,
+    check_not_reserved,
     check_parent,
     folder_in,
     output_folder,
@@ -97,6 +98,7 @@ def check_out_dir(out: str | os.PathLike | None, replace: bool = False) -> None:
     check without claiming, for commands that read large inputs first."""
     if out is None:
         return
+    check_not_reserved(out, _WRITING)
     path = output_folder(Path(out))
     check_parent(path)
     _check_state(path, replace)
@@ -323,6 +325,7 @@ def claim_run_dir(
     once the new run is complete), holds other files, or cannot be created.
     """
     if out is not None:
+        check_not_reserved(out, _WRITING)
         return _claim(output_folder(Path(out)), replace, command)
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
     base = folder_in(root, f"{stamp}-{kind}")  # before anything is created
