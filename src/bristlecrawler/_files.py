@@ -43,8 +43,8 @@ def xdg_home(variable: str, fallback: str) -> Path:
 
 
 #: What the compilation caches (stored programs and JAX's) may hold together, in MB,
-#: unless ``BRISTLECRAWLER_CACHE_MB`` says otherwise: the paper crawler's programs take
-#: about 25 MB, a round of studies of several structures a few hundred.
+#: unless ``BRISTLECRAWLER_CACHE_MB`` says otherwise: a structure's programs take tens of
+#: MB, so this holds those of dozens of structures.
 CACHE_LIMIT_MB = 2048
 
 

@@ -6,7 +6,8 @@ A run that writes a folder (``reduced``, ``simulate``, ``analyze``) goes through
 1. **Claim.** After the input is validated and before any solving, the target's lock file
    ``.<name>.lock`` beside it is locked (``flock``; the kernel releases it when the process
    ends, however it ends). A second run into the same folder is refused at once, as is a
-   folder that already holds a run (unless ``replace``) or that holds other files.
+   folder that already holds a run (unless ``replace``) or that holds other files, and a
+   path through one of the names below (:data:`~.output_paths.RESERVED_NAME`).
 2. **Write.** The files go into a hidden sibling ``.<name>.partial-XXXXXXXX``.
 3. **Commit.** ``meta.json`` with ``"status": "complete"`` is written last, then the
    folder is renamed into place (over an old run only with ``replace``). A reader never
