@@ -168,7 +168,8 @@ def read_entry(path: Path, deserialize):
     if not hmac.compare_digest(tag, _tag(key, path.name, payload)):
         return _refuse(path, "its signature does not match (damaged, moved or not yours)")
     with contextlib.suppress(OSError):
-        os.utime(path, follow_symlinks=False)  # its last use: the size limit removes the least recently used
+        # Its last use: past the size limit, the least recently used entries go first.
+        os.utime(path, follow_symlinks=False)
     try:
         data, in_tree, out_tree = pickle.loads(payload)
         with LOAD_LOCK:
