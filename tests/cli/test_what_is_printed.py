@@ -99,3 +99,11 @@ def test_a_run_into_a_live_run_s_partial_folder_is_refused_and_the_live_run_comp
         assert sorted(p.name for p in partial.iterdir()) == ["summary.json"]
     assert run_status(tmp_path / "victim") == "complete"
     assert sorted(p.name for p in (tmp_path / "victim").iterdir()) == ["meta.json", "summary.json"]
+
+
+def test_the_line_a_long_command_starts_with_is_escaped(capsys):
+    from bristlecrawler.viz.progress import announce
+
+    announce("sweep", "20 designs into runs/\x1b]0;owned\x07")
+    err = capsys.readouterr().err
+    assert err == "sweep: 20 designs into runs/\\x1b]0;owned\\x07\n"
