@@ -168,8 +168,10 @@ def read_entry(path: Path, deserialize):
     if not hmac.compare_digest(tag, _tag(key, path.name, payload)):
         return _refuse(path, "its signature does not match (damaged, moved or not yours)")
     with contextlib.suppress(OSError):
-        # Its last use: past the size limit, the least recently used entries go first.
-        os.utime(path, follow_symlinks=False)
+        # Its last use, as its access time (the modification time says when it was
+        # written): past the size limit, the least recently used entries go first.
+        written = os.stat(path, follow_symlinks=False).st_mtime_ns
+        os.utime(path, ns=(time.time_ns(), written), follow_symlinks=False)
     try:
         data, in_tree, out_tree = pickle.loads(payload)
         with LOAD_LOCK:
