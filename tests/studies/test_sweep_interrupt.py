@@ -9,11 +9,14 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from .test_sweep_dask import RESUMABLE
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
+@pytest.mark.slow  # a local cluster's start: 7 s on an idle machine, more on a busy one
 def test_ctrl_c_on_a_sweep_says_what_was_kept_and_how_to_resume(tmp_path):
     (tmp_path / "resumable.toml").write_text(RESUMABLE)
     out = tmp_path / "out"

@@ -1,9 +1,9 @@
 """The compilation caches' size: at most ``BRISTLECRAWLER_CACHE_MB`` MB together.
 
 An entry's last use is its access or modification time, whichever is later (a stored
-program's access time is set when it is loaded); the least recently used are removed first, when a
-program is stored and when JAX's cache is enabled (JAX's cache has no limit of its own
-without the ``filelock`` package). Only the caches' entries are ever removed: links and
+program's access time is set when it is loaded); the least recently used are removed
+first, when a program is stored and when JAX's cache is enabled (JAX's cache has no limit
+of its own without the ``filelock`` package). Only the caches' entries are ever removed: links and
 files of other names in the folder are left as they are, and a folder that is not the
 user's alone is not touched.
 """
