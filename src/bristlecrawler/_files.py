@@ -32,6 +32,42 @@ class UnfitFile(OSError):
     message says why in a few words."""
 
 
+def xdg_home(variable: str, fallback: str) -> Path:
+    """The base folder ``$variable`` names (``XDG_CACHE_HOME``, ``XDG_CONFIG_HOME``), or
+    ``~/fallback``: as the XDG base directory rules say, a value that is empty or not an
+    absolute path is ignored (a relative one would put the tool's files wherever it runs)."""
+    given = os.environ.get(variable, "")
+    if given and os.path.isabs(given):
+        return Path(given)
+    return Path.home() / fallback
+
+
+#: What the compilation caches (stored programs and JAX's) may hold together, in MB,
+#: unless ``BRISTLECRAWLER_CACHE_MB`` says otherwise: a structure's programs take tens of
+#: MB, so this holds those of dozens of structures.
+CACHE_LIMIT_MB = 2048
+
+
+def cache_limit_bytes() -> int:
+    """The compilation caches' size limit in bytes: ``$BRISTLECRAWLER_CACHE_MB`` MB, else
+    :data:`CACHE_LIMIT_MB`. ValueError, saying what the variable takes, for a value that
+    is not a whole number of MB >= 1."""
+    given = os.environ.get("BRISTLECRAWLER_CACHE_MB", "").strip()
+    if not given:
+        return CACHE_LIMIT_MB << 20
+    try:
+        mb = int(given)
+    except ValueError:
+        mb = 0
+    if not 1 <= mb <= 1 << 30:
+        raise ValueError(
+            f"BRISTLECRAWLER_CACHE_MB={given[:40]!r} is not a size: give a whole number of "
+            f"MB >= 1 (default {CACHE_LIMIT_MB}), or BRISTLECRAWLER_NO_JAX_CACHE=1 to keep no "
+            "compiled programs"
+        )
+    return mb << 20
+
+
 def kind(mode: int) -> str:
     """What a file of ``st_mode`` ``mode`` is, in a word or two."""
     if stat.S_ISDIR(mode):

@@ -27,3 +27,12 @@ class Interrupted(BaseException):
     A BaseException, like KeyboardInterrupt, so that ``except Exception`` does not swallow
     it; the CLI raises it from its SIGINT handler, prints its message and exits with 130.
     """
+
+
+def printable(text: str, keep: str = "") -> str:
+    """``text`` as it may reach a terminal: every character that is not printable (the
+    escape that starts a terminal's control sequence, a bell, a carriage return, a
+    right-to-left override, ...) written as its Python escape, ``\\x1b``, so that input
+    can neither retitle, recolour nor rewrite the user's terminal. Characters in ``keep``
+    (a newline, a tab) pass as they are."""
+    return "".join(c if c.isprintable() or c in keep else repr(c)[1:-1] for c in text)

@@ -113,7 +113,7 @@ def test_cells_that_are_not_numbers_are_counted_and_reported(tmp_path):
         warnings.simplefilter("always")
         rec = read_csv(tmp_path / "r.csv")
     assert [str(w.message).split(": ", 1)[1] for w in seen] == [
-        "2 cells that are not numbers (first: 'abc' in left_mm, data row 5) read as dropouts"
+        "2 cells that are not numbers (first: data row 5, column 2) read as dropouts"
     ]
     assert np.isnan(rec.left[[4, 11]]).all() and np.isnan(rec.right[[8, 11]]).all()
 

@@ -160,7 +160,7 @@ def test_bad_input_one_line_exit_2_nothing_written(args, word, tmp_path, run_cli
         ("t,s\n0,0\n1,nan\n", "non-finite"),
         ("t,s\n0,0\n2,1\n1,2\n", "increasing"),
         ("t,s\n0,0\n1,-2\n", ">= 0"),
-        ("t,s\n0,0\n1,abc\n", "cannot read"),
+        ("t,s\n0,0\n1,abc\n", "not both numbers"),
         ("", "empty"),
     ],
 )

@@ -1,6 +1,8 @@
 """The measured costs behind the estimates long commands print before they start."""
 
 import dataclasses
+import os
+import stat
 
 import pytest
 
@@ -23,12 +25,106 @@ def test_a_cost_that_is_not_a_duration_is_not_kept(bad):
     assert costs.recorded("compile", "k") is None
 
 
-def test_an_unreadable_file_gives_no_estimate_and_no_error():
+def test_a_file_the_tool_did_not_write_gives_no_estimate_and_is_left_as_it_is():
     costs.costs_path().parent.mkdir(parents=True, exist_ok=True)
     costs.costs_path().write_text("{not json")
     assert costs.recorded("simulate", "k") is None
-    costs.record("simulate", "k", 3.0)  # and is replaced by a valid one
+    costs.record("simulate", "k", 3.0)
+    assert costs.costs_path().read_text() == "{not json"
+
+
+def _unfit_costs(tmp_path, what):
+    """A path ``BRISTLECRAWLER_COSTS`` may name that the costs must not be written to."""
+    path = tmp_path / "notes.txt"
+    if what == "notes":
+        path.write_text("my notes\n")
+    elif what == "link":
+        (tmp_path / "costs.json").write_text('{"simulate": {"k": {"seconds": 1}}}')
+        path.symlink_to(tmp_path / "costs.json")
+    elif what == "fifo":
+        os.mkfifo(path)
+    elif what == "folder":
+        path.mkdir()
+    elif what == "device":
+        # A device of the test's own (the code before this check replaced what the
+        # variable named: never point it at the real /dev/null).
+        try:
+            os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, 3))
+        except (PermissionError, AttributeError):
+            pytest.skip("making a device needs root")
+    return path
+
+
+@pytest.mark.parametrize("what", ["notes", "link", "fifo", "folder", "device"])
+def test_bristlecrawler_costs_naming_what_the_tool_did_not_make_is_refused(
+    tmp_path, monkeypatch, run_cli, what
+):
+    path = _unfit_costs(tmp_path, what)
+    before = os.lstat(path)
+    content = path.read_text() if what == "notes" else None
+    monkeypatch.setenv("BRISTLECRAWLER_COSTS", str(path))
+    code, out, err = run_cli(["reduced", "--cycles", "1", "--out", str(tmp_path / "run")])
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert err.startswith("error: BRISTLECRAWLER_COSTS=") and "BRISTLECRAWLER_NO_COSTS=1" in err
+    assert not (tmp_path / "run").exists()
+    # The library writes nothing there either: what was there stays as it was.
+    costs.record("simulate", "k", 3.0)
+    after = os.lstat(path)
+    assert (after.st_ino, after.st_mode, after.st_size) == (
+        before.st_ino,
+        before.st_mode,
+        before.st_size,
+    )
+    if content is not None:
+        assert path.read_text() == content
+
+
+def test_the_costs_file_is_replaced_atomically_and_is_the_user_s_alone(tmp_path, monkeypatch):
+    path = tmp_path / "costs.json"
+    monkeypatch.setenv("BRISTLECRAWLER_COSTS", str(path))
+    costs.record("simulate", "k", 3.0)
+    first = os.stat(path).st_ino
+    costs.record("simulate", "j", 4.0)
+    assert os.stat(path).st_ino != first  # a new file renamed over the old one
+    assert stat.S_IMODE(os.stat(path).st_mode) == 0o600
+    assert [costs.recorded("simulate", k).seconds for k in "kj"] == [3.0, 4.0]
+    assert list(tmp_path.iterdir()) == [path]
+
+
+def test_bristlecrawler_no_costs_keeps_none_and_reads_none(tmp_path, monkeypatch, run_cli):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n")
+    monkeypatch.setenv("BRISTLECRAWLER_COSTS", str(notes))
+    monkeypatch.setenv("BRISTLECRAWLER_NO_COSTS", "1")
+    costs.record("simulate", "k", 3.0)
+    assert costs.recorded("simulate", "k") is None
+    code, _, _ = run_cli(["reduced", "--cycles", "1", "--out", str(tmp_path / "run")])
+    assert code == 0 and notes.read_text() == "my notes\n"
+
+
+@pytest.mark.parametrize("value", ["", "relative/cache"])
+def test_an_empty_or_relative_xdg_cache_home_is_ignored(tmp_path, monkeypatch, value):
+    from bristlecrawler.fe.cache import cache_folder
+    from bristlecrawler.jobs.predict import cache_folder as drag_cache
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    monkeypatch.setenv("XDG_CACHE_HOME", value)
+    monkeypatch.setenv("XDG_CONFIG_HOME", value)
+    for name in ("BRISTLECRAWLER_COSTS", "BRISTLECRAWLER_JAX_CACHE", "BRISTLECRAWLER_CACHE_KEY"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.delenv("BRISTLECRAWLER_NO_JAX_CACHE", raising=False)
+    monkeypatch.delenv("BRISTLECRAWLER_DRAG_CACHE", raising=False)
+    from bristlecrawler.fe.program_store import key_path
+
+    home = tmp_path / "home"
+    assert costs.costs_path() == home / ".cache" / "bristlecrawler" / "costs.json"
+    assert cache_folder() == home / ".cache" / "bristlecrawler" / "jax"
+    assert drag_cache() == home / ".cache" / "bristlecrawler" / "drag"
+    assert key_path() == home / ".config" / "bristlecrawler" / "cache-key"
+    costs.record("simulate", "k", 3.0)
     assert costs.recorded("simulate", "k").seconds == 3.0
+    assert [p.name for p in tmp_path.iterdir()] == ["home"]  # nothing in the current folder
 
 
 @pytest.mark.parametrize(

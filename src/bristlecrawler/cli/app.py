@@ -17,7 +17,7 @@ import warnings
 import typer
 
 from bristlecrawler.cli.groups import WholeSummaries
-from bristlecrawler.errors import InputError, Interrupted, SolverError
+from bristlecrawler.errors import InputError, Interrupted, SolverError, printable
 
 #: The order in which ``--help`` lists the commands: as a user meets them, from the paper's
 #: results to a design of one's own, then the tools behind them. A command not named here is
@@ -36,6 +36,7 @@ COMMAND_ORDER = (
     "export",
     "crosscheck",
     "scenario",
+    "cache",
     "version",
 )
 
@@ -63,6 +64,20 @@ app = typer.Typer(
 )
 
 
+@app.callback()
+def _environment() -> None:
+    # The variables that name the tool's own files and sizes are checked as options are:
+    # a bad one is one line and exit code 2 before any command starts.
+    from bristlecrawler._files import cache_limit_bytes
+    from bristlecrawler.io.costs import check_costs_env
+
+    check_costs_env()
+    try:
+        cache_limit_bytes()
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+
+
 @app.command("version")
 def version_cmd() -> None:
     """Print the package version and exit."""
@@ -73,6 +88,7 @@ def version_cmd() -> None:
 
 def _register() -> None:
     from bristlecrawler.cli import (
+        cache,
         drag,
         experiment,
         export,
@@ -95,13 +111,16 @@ def _register() -> None:
     sweep.register(app)
     reproduce.register(app)
     export.register(app)
+    cache.register(app)
 
 
 _register()
 
 
 def _fail(message: str, code: int, prefix: str = "error: ") -> None:
-    first = " ".join(str(message).split())
+    # A message quotes what the user gave (a key, a path, a value): escaped, it cannot
+    # send a control sequence to the terminal.
+    first = printable(" ".join(str(message).split()))
     typer.echo(f"{prefix}{first}", err=True)
     raise SystemExit(code)
 
@@ -195,7 +214,7 @@ def _held_warnings():
 def _show(held: list[warnings.WarningMessage]) -> None:
     seen = set()
     for w in held:
-        text = " ".join(str(w.message).split())
+        text = printable(" ".join(str(w.message).split()))
         if text not in seen:
             seen.add(text)
             typer.echo(f"warning: {text}", err=True)

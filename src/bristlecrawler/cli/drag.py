@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
+from bristlecrawler.errors import printable
 
 
 def drag_cmd(
@@ -74,11 +75,11 @@ def drag_cmd(
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
         replace=replace,
         # Said once the folder is claimed: a refusal after them would make bad input two lines.
-        on_start=lambda: [typer.echo(n, err=True) for n in notes],
+        on_start=lambda: [typer.echo(printable(n), err=True) for n in notes],
         estimate=estimate.text(),
     )
     for warning in run.summary["warnings"]:
-        typer.echo(f"warning: {warning}", err=True)
+        typer.echo(f"warning: {printable(warning)}", err=True)
     if as_json:
         typer.echo(summary_json(run.summary))
         return
@@ -121,7 +122,7 @@ def _print(s: dict) -> None:
     console = Console()
     console.print(table)
     if "output_dir" in s:
-        console.print(f"results in {s['output_dir']}")
+        console.print(f"results in {printable(s['output_dir'])}", markup=False)
 
 
 def register(app: typer.Typer) -> None:

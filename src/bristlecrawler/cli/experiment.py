@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import OutFolder, ReplaceRun
+from bristlecrawler.errors import printable
 
 
 def analyze_cmd(
@@ -103,7 +104,7 @@ def analyze_cmd(
 
             save_figure(figure, run.path / "analysis.png")
     for note in run.notes:
-        typer.echo(f"warning: {note}", err=True)
+        typer.echo(f"warning: {printable(note)}", err=True)
     summary["output_dir"] = str(run.target)
     if as_json:
         typer.echo(dumps_strict(summary))
@@ -127,8 +128,8 @@ def _print_analysis(summary: dict) -> None:
     if "fp_N" in summary:
         typer.echo(f"F_p = {summary['fp_N']:.3f} N, k = {summary['k_N_per_mm']:.3f} N/mm")
     for note in summary["notes"]:
-        typer.echo(f"note: {note}")
-    typer.echo(f"results in {summary['output_dir']}")
+        typer.echo(f"note: {printable(note)}")
+    typer.echo(f"results in {printable(summary['output_dir'])}")
 
 
 def synth_cmd(
@@ -178,7 +179,7 @@ def synth_cmd(
         seed=opts.seed,
     )
     (write_tdms if ext == ".tdms" else write_csv)(rec, path)
-    typer.echo(f"wrote {path} ({rec.t.size} samples, {rec.duration:.1f} s)")
+    typer.echo(f"wrote {printable(str(path))} ({rec.t.size} samples, {rec.duration:.1f} s)")
 
 
 def register(app: typer.Typer) -> None:

@@ -12,6 +12,7 @@ import typer
 
 from bristlecrawler.cli.groups import WholeSummaries
 from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
+from bristlecrawler.errors import printable
 
 ScenarioArg = Annotated[
     str, typer.Argument(help="shipped scenario (paper, paper-vertical) or a TOML file")
@@ -80,7 +81,7 @@ def export_cmd(
     _check_folder(out, texts)
     out.mkdir(parents=True, exist_ok=True)
     for path in write_decks(out, texts):
-        typer.echo(str(path))
+        typer.echo(printable(str(path)))
 
 
 def _check_folder(out: Path, texts: dict[str, str]) -> None:
@@ -172,7 +173,7 @@ def _print(run) -> None:
         console.print(
             f"CalculiX stopped before the end of the path: {run.facts['calculix_stopped']}"
         )
-    console.print(f"results in {run.out_dir}")
+    console.print(f"results in {printable(str(run.out_dir))}", markup=False)
 
 
 def register(app: typer.Typer) -> None:

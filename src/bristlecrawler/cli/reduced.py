@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun
+from bristlecrawler.errors import printable
 from bristlecrawler.reduced.crawler import (
     DEFAULT_FN_OVER_FP,
     PAPER_CYCLES,
@@ -128,7 +129,7 @@ def _report(run, as_json: bool) -> None:
     from bristlecrawler.io.jsonio import dumps_strict
 
     for line in (*run.notes, *run.summary.get("warnings", ())):
-        typer.echo(f"warning: {line}", err=True)
+        typer.echo(f"warning: {printable(line)}", err=True)
     if as_json:
         typer.echo(dumps_strict(run.summary))
         return
@@ -168,7 +169,7 @@ def _print_summary(summary: dict) -> None:
             "last (it leaving) differ from the steady ones, and can be negative"
         )
     if "output_dir" in summary:
-        console.print(f"results in {summary['output_dir']}")
+        console.print(f"results in {printable(summary['output_dir'])}", markup=False)
 
 
 def calibrate_cmd(

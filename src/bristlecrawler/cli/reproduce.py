@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import OutFolder, ShowProgress
+from bristlecrawler.errors import printable
 
 
 def reproduce_cmd(
@@ -59,9 +60,9 @@ def reproduce_cmd(
     )
     run = run_reproduce(opts)
     for note in run.notes:
-        typer.echo(f"warning: {note}", err=True)
+        typer.echo(f"warning: {printable(note)}", err=True)
     for name in run.failed:
-        typer.echo(f"error: part {name} failed: {run.results[name].error}", err=True)
+        typer.echo(f"error: part {name} failed: {printable(run.results[name].error)}", err=True)
     if as_json:
         from bristlecrawler.io.jsonio import dumps_strict
 
@@ -88,7 +89,7 @@ def _print_table(run) -> None:
         table.add_row(f"{r.quantity} ({r.unit})", r.paper_text, ours, diff, r.verdict)
     console = Console()
     console.print(table)
-    console.print(f"report: {run.out_dir / 'report.html'}")
+    console.print(f"report: {printable(str(run.out_dir / 'report.html'))}", markup=False)
 
 
 def register(app: typer.Typer) -> None:

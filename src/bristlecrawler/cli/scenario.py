@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.groups import WholeSummaries
+from bristlecrawler.errors import printable
 
 scenario_app = typer.Typer(
     cls=WholeSummaries,
@@ -54,7 +55,7 @@ def show_cmd(
 
         typer.echo(scenario_toml(sc), nl=False)
     elif Path(scenario).is_file():
-        typer.echo(Path(scenario).read_text(encoding="utf-8"), nl=False)
+        typer.echo(printable(Path(scenario).read_text(encoding="utf-8"), keep="\n\t"), nl=False)
     else:
         typer.echo(shipped_scenario_text(scenario), nl=False)
 

@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
+from bristlecrawler.errors import printable
 
 
 def simulate_cmd(
@@ -78,7 +79,7 @@ def simulate_cmd(
         estimate=None if estimate is None else estimate.text(),
     )
     for w in (*run.notes, *run.summary["warnings"]):
-        typer.echo(f"warning: {w}", err=True)
+        typer.echo(f"warning: {printable(w)}", err=True)
     _note_defaults(scenario)
     if run.out_dir is not None and sc.output.animation:
         _note_mp4()
@@ -145,7 +146,7 @@ def _note_defaults(scenario: str) -> None:
             f"{k.key} = {toml_value(k.default)} (paper: {toml_value(k.paper)})" for k in keys
         )
         typer.echo(
-            f"note: {scenario} leaves {listed} at the schema's default; "
+            f"note: {printable(scenario)} leaves {listed} at the schema's default; "
             'add base = "paper" to start from the paper scenario',
             err=True,
         )
@@ -182,7 +183,7 @@ def _print_summary(summary: dict) -> None:
         "land edge faster than the steps resolve (see the docs' findings page)."
     )
     if "output_dir" in summary:
-        console.print(f"results in {summary['output_dir']}")
+        console.print(f"results in {printable(summary['output_dir'])}", markup=False)
 
 
 def register(app: typer.Typer) -> None:

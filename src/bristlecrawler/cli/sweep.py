@@ -11,6 +11,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import JsonSummary
+from bristlecrawler.errors import printable
 
 
 def shipped_studies() -> dict[str, list[str]]:
@@ -103,7 +104,7 @@ def sweep_cmd(
         progress=progress,
         batch=batch,
         command="bristlecrawler " + shlex.join(sys.argv[1:]),
-        note=lambda text: typer.echo(f"note: {text}", err=True),
+        note=lambda text: typer.echo(f"note: {printable(text)}", err=True),
     )
     summary = run_sweep(study, options)
     if as_json:
@@ -121,14 +122,14 @@ def _report_failures(summary: dict) -> int:
     if not bad:
         return 0
     for f in bad[:LISTED_FAILURES]:
-        typer.echo(f"{f['label']} {f['status']}: {f['error']}", err=True)
+        typer.echo(printable(f"{f['label']} {f['status']}: {f['error']}"), err=True)
     if len(bad) > LISTED_FAILURES:
         more = len(bad) - LISTED_FAILURES
         typer.echo(f"... and {more} more (study.zarr has every reason)", err=True)
     typer.echo(
         f"error: {len(bad)} of {summary['designs_total']} designs not done "
         f"({summary['designs_failed']} failed, {summary['designs_lost']} lost); the others' "
-        f"results are in {summary['output_dir']}",
+        f"results are in {printable(summary['output_dir'])}",
         err=True,
     )
     return 1
@@ -145,12 +146,14 @@ def _print_summary(summary: dict) -> None:
         table.add_row(key, str(summary[f"designs_{key}"]))
     console = Console()
     console.print(table)
-    console.print(f"store: {summary['store']}")
+    console.print(f"store: {printable(summary['store'])}", markup=False)
     if summary["figures"]:
-        console.print(f"figures: {Path(summary['figures'][0]).parent}")
+        console.print(
+            f"figures: {printable(str(Path(summary['figures'][0]).parent))}", markup=False
+        )
         maps = [f for f in summary["figures"] if Path(f).name.startswith("map_")]
         if maps:
-            console.print(f"design map: {maps[0]}")
+            console.print(f"design map: {printable(maps[0])}", markup=False)
 
 
 def register(app: typer.Typer) -> None:

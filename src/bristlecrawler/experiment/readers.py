@@ -57,11 +57,11 @@ class ChannelMap:
 
 
 def _build(columns: dict[str, np.ndarray], cmap: ChannelMap, source: str, dt: float | None):
-    available = ", ".join(columns) or "none"
     for role in ("left", "right"):
         if getattr(cmap, role) not in columns:
             raise InputError(
-                f"{source}: no {role}-end channel '{getattr(cmap, role)}' (available: {available})"
+                f"{source}: no {role}-end channel '{getattr(cmap, role)}' among its "
+                f"{len(columns)} (--{role} names it)"
             )
     n = columns[cmap.left].size
     if cmap.time is not None and cmap.time in columns:
@@ -174,7 +174,8 @@ def _parse_cells(block: list[list[str]], header: list[str], done: int):
             try:
                 chunk[i, j] = float(cell)
             except ValueError:
-                bad.append(f"{cell[:20]!r} in {header[j]}, data row {done + i + 1}")
+                # Where, not what: a cell's text is the file's content, not the tool's.
+                bad.append(f"data row {done + i + 1}, column {j + 1}")
     return chunk, bad
 
 
@@ -183,8 +184,8 @@ def _check_named(columns, cmap: ChannelMap, source: str) -> None:
     for role in cmap.named:
         name = getattr(cmap, role)
         if name is not None and name not in columns:
-            available = ", ".join(columns) or "none"
-            raise InputError(f"{source}: no {role} column '{name}' (available: {available})")
+            # The file's own names are not listed: the message names what was asked for.
+            raise InputError(f"{source}: no {role} column '{name}' among its {len(columns)}")
 
 
 def _is_number(text: str) -> bool:
@@ -215,12 +216,12 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
     if cmap.group is not None:
         names = [g.name for g in groups]
         if cmap.group not in names:
-            raise InputError(f"{path}: no TDMS group '{cmap.group}' (groups: {', '.join(names)})")
+            raise InputError(f"{path}: no TDMS group '{cmap.group}' among its {len(names)}")
         group = tdms[cmap.group]
     else:
         group = next((g for g in groups if cmap.left in [c.name for c in g.channels()]), groups[0])
     _check_named([c.name for c in group.channels()], cmap, path)
-    columns = {c.name: _numbers(c, path) for c in group.channels()}
+    columns = {c.name: _numbers(c, i, path) for i, c in enumerate(group.channels())}
     left = group[cmap.left] if cmap.left in columns else None
     dt = None
     if left is not None and "wf_increment" in left.properties:
@@ -228,14 +229,12 @@ def read_tdms(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Record
     return _build(columns, cmap, path, dt)
 
 
-def _numbers(channel, path: str) -> np.ndarray:
+def _numbers(channel, i: int, path: str) -> np.ndarray:
     """A TDMS channel's samples as floats; InputError for a channel of text or times."""
     try:
         return np.asarray(channel[:], dtype=float)
     except (TypeError, ValueError):
-        raise InputError(
-            f"{path}: TDMS channel '{channel.name}' does not hold numbers"[:300]
-        ) from None
+        raise InputError(f"{path}: TDMS channel {i + 1} does not hold numbers") from None
 
 
 def read_recording(path: str | os.PathLike, cmap: ChannelMap | None = None) -> Recording:

@@ -9,6 +9,10 @@ moves it, ``BRISTLECRAWLER_NO_JAX_CACHE=1`` turns both off, ``BRISTLECRAWLER_XLA
 only JAX's (whose writes are not atomic: a process reading an entry that another is writing
 can crash, which the stored programs' atomic writes rule out).
 
+Together they hold at most ``BRISTLECRAWLER_CACHE_MB`` MB (default 2048): the least
+recently used entries are removed when a program is stored and when JAX's cache is
+enabled.
+
 Both caches hold code that the next run executes, so the folders are made ``0700`` whatever
 the umask, and a folder that another user owns, or that group or others may write, is not
 used (see :mod:`bristlecrawler.fe.program_store`).
@@ -19,17 +23,17 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from bristlecrawler._files import private_folder, untrusted_folder
+from bristlecrawler._files import private_folder, untrusted_folder, xdg_home
+from bristlecrawler.fe.cache_size import evict
 
 
 def cache_folder() -> Path | None:
     """The cache folder, or None if opted out (``BRISTLECRAWLER_NO_JAX_CACHE``)."""
     if os.environ.get("BRISTLECRAWLER_NO_JAX_CACHE", "").strip() not in ("", "0"):
         return None
-    path = os.environ.get("BRISTLECRAWLER_JAX_CACHE")
+    path = os.environ.get("BRISTLECRAWLER_JAX_CACHE") or None  # empty: as if unset
     if path is None:
-        base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-        path = base / "bristlecrawler" / "jax"
+        path = xdg_home("XDG_CACHE_HOME", ".cache") / "bristlecrawler" / "jax"
     return Path(path).expanduser()
 
 
@@ -55,6 +59,7 @@ def enable_compilation_cache(path: str | os.PathLike | None = None) -> Path | No
 
         warnings.warn(f"{reason}; JAX's compilation cache is off", CacheWarning, stacklevel=2)
         return None
+    evict(folder)  # what earlier runs added to JAX's cache, which has no limit of its own
     jax.config.update("jax_compilation_cache_dir", str(folder))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
     return folder

@@ -43,7 +43,9 @@ from bristlecrawler._files import (
     untrusted,
     untrusted_folder,
     write_private,
+    xdg_home,
 )
+from bristlecrawler.fe.cache_size import evict
 
 MAGIC = b"bristlecrawler-program-2\n"
 #: The largest entry read back (the paper crawler's are tens of MB).
@@ -74,8 +76,7 @@ def key_path() -> Path:
     given = os.environ.get("BRISTLECRAWLER_CACHE_KEY", "").strip()
     if given:
         return Path(given).expanduser()
-    base = os.environ.get("XDG_CONFIG_HOME", "").strip() or Path.home() / ".config"
-    return Path(base) / "bristlecrawler" / "cache-key"
+    return xdg_home("XDG_CONFIG_HOME", ".config") / "bristlecrawler" / "cache-key"
 
 
 @functools.lru_cache(maxsize=4)
@@ -166,6 +167,11 @@ def read_entry(path: Path, deserialize):
     tag, payload = blob[len(MAGIC) : len(MAGIC) + _TAG], blob[len(MAGIC) + _TAG :]
     if not hmac.compare_digest(tag, _tag(key, path.name, payload)):
         return _refuse(path, "its signature does not match (damaged, moved or not yours)")
+    with contextlib.suppress(OSError):
+        # Its last use, as its access time (the modification time says when it was
+        # written): past the size limit, the least recently used entries go first.
+        written = os.stat(path, follow_symlinks=False).st_mtime_ns
+        os.utime(path, ns=(time.time_ns(), written), follow_symlinks=False)
     try:
         data, in_tree, out_tree = pickle.loads(payload)
         with LOAD_LOCK:
@@ -200,6 +206,8 @@ def write_entry(path: Path, serialized, name: str) -> None:
             f"compiled-program cache {path.parent} not writable ({exc.strerror or exc}); "
             "the FE programs are compiled in every process",
         )
+        return
+    evict(path.parent.parent, keep=path)
 
 
 @contextlib.contextmanager

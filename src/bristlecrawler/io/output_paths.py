@@ -10,6 +10,7 @@ from __future__ import annotations
 import errno
 import os
 import re
+from collections.abc import Iterable
 from pathlib import Path
 
 from bristlecrawler.errors import InputError
@@ -18,6 +19,36 @@ from bristlecrawler.errors import InputError
 #: letters, digits, ``_``, ``.`` and ``-``, starting with a letter or a digit, so that it
 #: can neither climb out of the runs folder (``..``, ``/``) nor hide (a leading dot).
 SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+
+
+#: The names the tool gives its own bookkeeping beside a run's folder and inside it: the
+#: lock file and the partial and set-aside folders of a run being written (:mod:`.runs`),
+#: a file being written (``.NAME.XXXXXXXX.EXT`` of :mod:`.atomic`, ``.NAME.PID.TID.tmp``
+#: of private writes) and a study's store being swapped. A run given one of them as its
+#: output would write into another run's files, or have them taken from under it.
+RESERVED_NAME = re.compile(
+    r"\..+\.lock|\..+\.(partial|old)-[a-z0-9_]{8}|\..+\.[a-z0-9_]{8}\.[A-Za-z0-9]+"
+    r"|\..+\.[0-9]+\.[0-9]+\.tmp|\.study\.zarr\..+"
+)
+
+
+def check_not_reserved(path: str | os.PathLike, inside: Iterable[str] = ()) -> None:
+    """InputError if a name in ``path`` (as given, or with links followed) is one the tool
+    keeps for its own files (:data:`RESERVED_NAME`); below a folder of ``inside`` (real
+    paths: the partial folders of the runs this process writes) only the names below it
+    count."""
+    path = Path(path)
+    for shape in (path.absolute(), Path(os.path.realpath(path))):
+        parts = shape.parts
+        for root in inside:
+            if shape.is_relative_to(root):
+                parts = shape.relative_to(root).parts or (shape.name,)
+        for part in parts:
+            if RESERVED_NAME.fullmatch(part):
+                raise InputError(
+                    f"output path {shown(path)}: {part[:60]!r} is a name the tool keeps for "
+                    "its own files (a run being written, a lock); give another --out"
+                )
 
 
 def check_safe_name(name: str) -> str:
@@ -52,6 +83,7 @@ def check_new_file(path: str | os.PathLike, replace: bool = False) -> None:
     writable folder, a name the file system takes, and not an existing file unless
     ``replace``."""
     path = Path(path)
+    check_not_reserved(path)
     try:
         if path.is_dir():
             raise InputError(f"output file {shown(path)} is a folder")

@@ -6,7 +6,8 @@ A run that writes a folder (``reduced``, ``simulate``, ``analyze``) goes through
 1. **Claim.** After the input is validated and before any solving, the target's lock file
    ``.<name>.lock`` beside it is locked (``flock``; the kernel releases it when the process
    ends, however it ends). A second run into the same folder is refused at once, as is a
-   folder that already holds a run (unless ``replace``) or that holds other files.
+   folder that already holds a run (unless ``replace``) or that holds other files, and a
+   path through one of the names below (:data:`~.output_paths.RESERVED_NAME`).
 2. **Write.** The files go into a hidden sibling ``.<name>.partial-XXXXXXXX``.
 3. **Commit.** ``meta.json`` with ``"status": "complete"`` is written last, then the
    folder is renamed into place (over an old run only with ``replace``). A reader never
@@ -37,6 +38,7 @@ from bristlecrawler.io.atomic import atomic_write_text
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.io.output_paths import (
     check_new_file,
+    check_not_reserved,
     check_parent,
     folder_in,
     output_folder,
@@ -97,6 +99,7 @@ def check_out_dir(out: str | os.PathLike | None, replace: bool = False) -> None:
     check without claiming, for commands that read large inputs first."""
     if out is None:
         return
+    check_not_reserved(out, _WRITING)
     path = output_folder(Path(out))
     check_parent(path)
     _check_state(path, replace)
@@ -323,6 +326,7 @@ def claim_run_dir(
     once the new run is complete), holds other files, or cannot be created.
     """
     if out is not None:
+        check_not_reserved(out, _WRITING)
         return _claim(output_folder(Path(out)), replace, command)
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%d-%H%M%S")
     base = folder_in(root, f"{stamp}-{kind}")  # before anything is created

@@ -35,8 +35,9 @@ def cache_folder() -> Path:
     path = os.environ.get("BRISTLECRAWLER_DRAG_CACHE")
     if path:
         return Path(path).expanduser()
-    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-    return base / "bristlecrawler" / "drag"
+    from bristlecrawler._files import xdg_home
+
+    return xdg_home("XDG_CACHE_HOME", ".cache") / "bristlecrawler" / "drag"
 
 
 def prediction_drag_test(spec):

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
-from bristlecrawler.errors import InputError
+from bristlecrawler.errors import InputError, printable
 from bristlecrawler.scenario.schema import Scenario
 
 
@@ -172,7 +172,8 @@ def run_simulation(
         if progress is not False:  # drawing the figures and the animation takes a while
             import sys
 
-            print(f"crawler: writing results to {run.target}", file=sys.stderr, flush=True)
+            line = printable(f"crawler: writing results to {run.target}")
+            print(line, file=sys.stderr, flush=True)
         _write_results(run, h, sc, command)
         run.write_json("summary.json", summary)
         record("simulate", key, run_seconds(time.perf_counter() - t0, h.stats))

@@ -150,9 +150,11 @@ def read_history_csv(path: str) -> SampledStroke:
             names = [h.strip().lower() for h in header]
             missing = [c for c in ("t", "s") if c not in names]
             if missing:
+                # What the file holds is not quoted: the path may name a file the user
+                # did not write (a scenario's actuation.history), even a secret one.
                 raise InputError(
-                    f"history file {path} lacks column(s) {', '.join(missing)} "
-                    f"(header has: {', '.join(header)}); expected 't' in s and 's' in mm"
+                    f"history file {path} lacks column(s) {', '.join(missing)} in its first "
+                    f"row of {len(header)} cells; expected a header with 't' (s) and 's' (mm)"
                 )
             it, is_ = names.index("t"), names.index("s")
             t, s = [], []
@@ -162,8 +164,8 @@ def read_history_csv(path: str) -> SampledStroke:
                     s.append(float(row[is_]))
                 except (ValueError, IndexError):
                     raise InputError(
-                        f"history file {path}, data row {lineno - 1}: "
-                        f"cannot read t and s from {row}"
+                        f"history file {path}, data row {lineno - 1}: its t (s) and s (mm) "
+                        "cells are not both numbers"
                     ) from None
     except UnicodeDecodeError:
         raise InputError(f"history file {path} is not a UTF-8 text CSV file") from None

@@ -123,15 +123,21 @@ def connect(scheduler: str | None, workers: int | None, timeout_s: float = CONNE
     if scheduler is not None:
         check_address(scheduler)
         return _client(Client, scheduler, timeout_s), None
+    from bristlecrawler.studies.interrupt import IgnoreInterrupt, interrupt_ignored
+
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(
-        n_workers=n,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0",
-        silence_logs=logging.ERROR,
-    )
-    return Client(cluster, set_as_default=False), cluster
+    # Ctrl-C at a terminal reaches the workers too: they ignore it from their start on.
+    with interrupt_ignored():
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            silence_logs=logging.ERROR,
+        )
+    client = Client(cluster, set_as_default=False)
+    client.register_plugin(IgnoreInterrupt(), name="bristlecrawler-ignore-interrupt")
+    return client, cluster
 
 
 def _client(Client, scheduler: str, timeout_s: float):

@@ -12,6 +12,8 @@ import statistics
 import sys
 import time
 
+from bristlecrawler.errors import printable
+
 
 def eta_seconds(left: int, design_seconds: list[float], workers: int) -> float | None:
     """Seconds until ``left`` designs are done on ``workers`` workers at the median of the
@@ -89,7 +91,8 @@ class SweepProgress:
         if self.mode == "off":
             return
         left = "" if self.done >= self.total else f", {self.eta()}"
-        print(f"[{self.done}/{self.total}] {text}{left}", file=sys.stderr, flush=True)
+        line = printable(f"[{self.done}/{self.total}] {text}{left}")
+        print(line, file=sys.stderr, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from bristlecrawler.errors import InputError
+from bristlecrawler.errors import InputError, Interrupted
 from bristlecrawler.scenario.cost import Estimate
 from bristlecrawler.studies import execute, store
 from bristlecrawler.studies.designs import Base, Designs, expand, resolve_base
@@ -252,8 +252,11 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
         todo = batch_tasks(p, batch, out if resuming else None)
         ntasks, left = len(todo), sum(t.index.size for t in todo)
     client = cluster = None
-    if ntasks:
-        client, cluster = execute.connect(opt.scheduler, opt.workers, opt.connect_timeout_s)
+    try:
+        if ntasks:
+            client, cluster = execute.connect(opt.scheduler, opt.workers, opt.connect_timeout_s)
+    except (KeyboardInterrupt, Interrupted):
+        raise Interrupted(_interrupted(p, out, study_ref)) from None
     meta = {
         "package_version": __version__,
         "git_revision": git_revision(),
@@ -264,15 +267,40 @@ def run_sweep(study_ref: str, options: SweepOptions | None = None) -> dict[str, 
     }
     if opt.note is not None and p.cost.long:  # bad input is one line: said once all is checked
         opt.note(p.cost.text())
+    stopped = None
     try:
         store.start_folder(out, p.resolved, meta)
         if ntasks:
             if opt.progress is not False:
                 _announce(p, out, left, _workers(client))
             _run(p, out, todo, left, client, opt.progress)
+    except (KeyboardInterrupt, Interrupted):
+        stopped = _interrupted(p, out, study_ref)
     finally:
-        execute.disconnect(client, cluster)
+        try:
+            execute.disconnect(client, cluster)
+        except (KeyboardInterrupt, Interrupted):  # pressed again: the cluster goes anyway
+            stopped = stopped or _interrupted(p, out, study_ref)
+    if stopped is not None:
+        raise Interrupted(stopped)
     return _finish(p, out, meta, opt, ntasks, time.perf_counter() - wall0)
+
+
+def _interrupted(p: Plan, out: Path, study_ref: str) -> str:
+    """The line that a sweep stopped by Ctrl-C ends with: what its folder keeps (every
+    finished task's part file) and the command that completes it."""
+    import shlex
+
+    if not (out / store.STUDY_FILE).exists():
+        return f"interrupted: nothing written to {out}"
+    done = 0
+    for _task, part in store.read_parts(out):
+        done += int(np.sum(part["status"] != DesignStatus.LOST))
+    again = shlex.join(["bristlecrawler", "sweep", study_ref, "--out", str(out), "--resume"])
+    return (
+        f"interrupted: kept {out} with {done} of {p.designs.n} designs finished; "
+        f"complete it with: {again}"
+    )
 
 
 def _run(p: Plan, out: Path, todo, left: int, client, progress) -> None:

@@ -23,8 +23,11 @@ Mode = Literal["bars", "lines", "off"]
 
 
 def announce(label: str, text: str) -> None:
-    """One line on stderr, before the work starts (``label: text``)."""
-    print(f"{label}: {text}", file=sys.stderr, flush=True)
+    """One line on stderr, before the work starts (``label: text``); the text names the
+    run's folder, as given: escaped, it cannot send a control sequence to the terminal."""
+    from bristlecrawler.errors import printable
+
+    print(printable(f"{label}: {text}"), file=sys.stderr, flush=True)
 
 
 def progress_mode(enabled: bool | None, stream=None) -> Mode:
