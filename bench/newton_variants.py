@@ -10,8 +10,8 @@ and the time (the sum over attempts of the fastest of ``--calls`` calls; every
 ``--every``-th attempt when timing).
 
 A variant is a comma-separated list of ``NewtonOptions`` fields (``reuse_tangent=0.1``,
-``max_correction=inf``, ``freeze_iterations=2``) or ``head_pairs=N`` (the corner
-contact's always-evaluated pairs); an empty string is the recorded settings. Nothing is
+``max_correction=inf``, ``freeze_iterations=2``) or ``tangent_pairs=N`` (the corner
+contact's differentiated pairs per outline); an empty string is the recorded settings. Nothing is
 asserted.
 
     python bench/newton_variants.py --save runs/attempts.pkl [--cycles 1] [--set k=v]
@@ -77,9 +77,9 @@ def variant(text: str, terms, integrator):
     newton = {}
     for item in filter(None, text.split(",")):
         key, _, value = item.partition("=")
-        if key == "head_pairs":
+        if key == "tangent_pairs":
             terms = tuple(
-                dataclasses.replace(t, head_pairs=int(value))
+                dataclasses.replace(t, tangent_pairs=int(value))
                 if isinstance(t, FaceCornerContact)
                 else t
                 for t in terms
@@ -87,7 +87,7 @@ def variant(text: str, terms, integrator):
             continue
         field = {f.name: f for f in dataclasses.fields(integrator.newton)}.get(key)
         if field is None:
-            sys.exit(f"error: {key!r} is not a NewtonOptions field or head_pairs")
+            sys.exit(f"error: {key!r} is not a NewtonOptions field or tangent_pairs")
         old = getattr(integrator.newton, key)
         newton[key] = (value == "True") if isinstance(old, bool) else type(old)(value)
     nw = dataclasses.replace(integrator.newton, **newton)

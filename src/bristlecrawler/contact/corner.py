@@ -164,15 +164,12 @@ class FaceCornerContact(Term):
     :meth:`residual`). ``local_tangent``: assemble their derivative from each pair's
     stiffness on its four outline points (:func:`.corner_tangent.near_forces`, which states where it
     is exact; about a third less time per Newton iteration of the paper crawler) rather
-    than by differentiating through the whole outline (False: for comparison).
-    ``head_pairs``: of those, the pairs always evaluated; the others only where one of
-    them may touch (:meth:`_near`; the same forces and tangent)."""
+    than by differentiating through the whole outline (False: for comparison)."""
 
     faces: tuple[tuple[int, ...], ...]
     periods: int
     tangent_pairs: int = 4
     local_tangent: bool = True
-    head_pairs: int = 2
 
     def __post_init__(self) -> None:
         if not self.faces or any(len(f) < 4 for f in self.faces):
@@ -185,8 +182,6 @@ class FaceCornerContact(Term):
             raise InputError("corner contact: the corner window needs at least one period")
         if self.tangent_pairs < 1:
             raise InputError("corner contact: tangent_pairs must be >= 1")
-        if self.head_pairs < 1:
-            raise InputError("corner contact: head_pairs must be >= 1")
 
     @staticmethod
     def window_periods(span: float, period: float, margin: float) -> int:
@@ -360,8 +355,15 @@ class FaceCornerContact(Term):
             return jnp.take_along_axis(x, idx.reshape(*idx.shape, *([1] * (x.ndim - 2))), 1)
 
         chosen = jnp.zeros(lb.shape, bool).at[jnp.arange(lb.shape[0])[:, None], idx].set(True)
-        pairs = (take(C), take(rho), take(history.anchor), None if mode is None else take(mode))
-        near = self._near(u, pairs, take(lb), params)
+        near = (near_forces if self.local_tangent else FaceCornerContact._force)(
+            self,
+            u,
+            take(C),
+            take(rho),
+            take(history.anchor),
+            params,
+            None if mode is None else take(mode),
+        )
 
         def others(_):
             current, pull = jax.vjp(
@@ -372,31 +374,6 @@ class FaceCornerContact(Term):
         may_touch = jnp.any(~chosen & ~(lb > 0.0))
         rest = jax.lax.cond(may_touch, others, lambda _: jnp.zeros_like(u0), None)
         return near + jax.lax.stop_gradient(rest)
-
-    def _near(self, u, pairs, lb, params):
-        """Forces of the differentiated pairs ``pairs`` = (corners (F, k, 2), radii,
-        anchors, modes), ordered by their clearances ``lb`` (F, k), smallest first.
-
-        The first ``head_pairs`` of each outline are evaluated; the rest only when one
-        of them has a clearance <= 0 (a pair with a positive clearance is open: zero force,
-        zero stiffness), so the values and derivatives are those of all ``k``. An outline
-        rarely touches more than two corners, and the pairs' stiffness is most of the
-        term's share of a Newton tangent."""
-        force = near_forces if self.local_tangent else FaceCornerContact._force
-
-        def part(sl):
-            C, rho, anchor, mode = pairs
-            m = None if mode is None else mode[:, sl]
-            return force(self, u, C[:, sl], rho[:, sl], anchor[:, sl], params, m)
-
-        head = min(self.head_pairs, lb.shape[1])
-        near = part(slice(0, head))
-        if head == lb.shape[1]:
-            return near
-        tail = slice(head, None)
-        open_ = jnp.all(lb[:, tail] > 0.0)
-        rest = jax.lax.cond(open_, lambda _: jnp.zeros_like(near), lambda _: part(tail), None)
-        return near + rest
 
     def penetration(self, history, params):
         """Deepest penetration (mm) of a committed history: p_N / k_N."""
