@@ -9,13 +9,13 @@ the attempts the recorded run found easy (at most 4 iterations), hard (more) and
 and the time (the sum over attempts of the fastest of ``--calls`` calls; every
 ``--every``-th attempt when timing).
 
-A variant is a comma-separated list of ``NewtonOptions`` fields (``reuse_tangent=0.1``,
+A variant is a comma-separated list of ``NewtonOptions`` fields (``max_backtracks=4``,
 ``max_correction=inf``, ``freeze_iterations=2``) or ``tangent_pairs=N`` (the corner
-contact's differentiated pairs per outline); an empty string is the recorded settings. Nothing is
-asserted.
+contact's differentiated pairs per outline); an empty string is the recorded settings.
+Nothing is asserted.
 
     python bench/newton_variants.py --save runs/attempts.pkl [--cycles 1] [--set k=v]
-    python bench/newton_variants.py --load runs/attempts.pkl "" reuse_tangent=0.1 \\
+    python bench/newton_variants.py --load runs/attempts.pkl "" max_backtracks=4 \\
         [--every 4 --calls 5]
 
 Loading a pickle runs code from it: load only files you made.
