@@ -51,6 +51,7 @@ def ctx(tmp_path_factory):
     return ctx
 
 
+@pytest.mark.slow
 def test_every_part_succeeds_and_writes_its_figures(ctx):
     for name, r in ctx.results.items():
         assert r.ok, (name, r.error)

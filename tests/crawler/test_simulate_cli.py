@@ -62,6 +62,7 @@ def test_history_with_negative_shortening_is_refused(run_cli, tmp_path):
     assert code == 2 and "shortening must be >= 0" in err
 
 
+@pytest.mark.slow
 def test_run_writes_every_output(run_cli, tmp_path, monkeypatch):
     h = kinematic_history(cycles=2, samples=60)
     monkeypatch.setattr("bristlecrawler.jobs.simulate.solve", lambda spec, progress=None: h)

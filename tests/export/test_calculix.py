@@ -23,6 +23,7 @@ CCX = shutil.which("ccx")
 pytestmark = pytest.mark.skipif(CCX is None, reason="CalculiX (ccx) is not installed")
 
 
+@pytest.mark.slow
 def test_the_continuum_bristle_bends_as_the_toolkits_beam(tmp_path):
     """Clamped, a horizontal force at the tip: the plane-stress continuum's tip compliance
     is the tapered Timoshenko beam's within 5 %, and plane strain's is plane stress's
