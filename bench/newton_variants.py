@@ -12,11 +12,14 @@ and the time (the sum over attempts of the fastest of ``--calls`` calls; every
 A variant is a comma-separated list of ``NewtonOptions`` fields (``max_backtracks=4``,
 ``max_correction=inf``, ``freeze_iterations=2``) or ``tangent_pairs=N`` (the corner
 contact's differentiated pairs per outline); an empty string is the recorded settings.
-Nothing is asserted.
+``--oracle``: instead, solve each hard attempt that converged with every contact point's
+and pair's stick or slip status frozen at the values of its own solution (an upper bound
+on what a friction active set could save). Nothing is asserted.
 
     python bench/newton_variants.py --save runs/attempts.pkl [--cycles 1] [--set k=v]
     python bench/newton_variants.py --load runs/attempts.pkl "" max_backtracks=4 \\
         [--every 4 --calls 5]
+    python bench/newton_variants.py --load runs/attempts.pkl --oracle
 
 Loading a pickle runs code from it: load only files you made.
 """
@@ -94,6 +97,48 @@ def variant(text: str, terms, integrator):
     return terms, dataclasses.replace(integrator, newton=nw)
 
 
+def oracle(attempts, kept, topo, terms, integrator) -> None:
+    """Print the iterations of the hard attempts that converged, as recorded and with
+    their stick/slip statuses frozen at their own solution's (see the module docstring)."""
+    import jax.numpy as jnp
+
+    from bristlecrawler.fe import dynamics
+
+    step = dynamics.make_step(topo, terms, integrator)
+    frozen = dataclasses.replace(
+        integrator,
+        newton=dataclasses.replace(
+            integrator.newton, freeze_iterations=integrator.newton.max_iterations - 1
+        ),
+    )
+    step_frozen = dynamics.make_step(topo, terms, frozen)
+    before = after = n = failed = 0
+    for (state, params, dt), (_, _, _, its, status) in zip(attempts, kept, strict=True):
+        if status != 0 or its <= 4:
+            continue
+        solved, _ = step(state, params, dt)
+        # Statuses are per window slot: skip the attempts whose commit moved a window.
+        moved = [
+            bool(jnp.any(getattr(h0, "k0", 0) != getattr(h1, "k0", 0)))
+            for h0, h1 in zip(state.history, solved.history, strict=True)
+        ]
+        if any(moved):
+            continue
+        history = tuple(
+            dataclasses.replace(h0, state=h1.state)
+            for h0, h1 in zip(state.history, solved.history, strict=True)
+        )
+        _, info = step_frozen(dataclasses.replace(state, history=history), params, dt)
+        n += 1
+        before += its
+        after += int(info.iterations)
+        failed += int(info.status) != 0
+    print(
+        f"{n} hard attempts that converged: {before} Newton iterations as recorded, "
+        f"{after} with the statuses of their own solution frozen ({failed} failed)"
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("variants", nargs="*", default=[""])
@@ -105,6 +150,7 @@ def main() -> None:
     ap.add_argument("--set", dest="sets", action="append", default=[])
     ap.add_argument("--every", type=int, default=1, help="time every N-th attempt")
     ap.add_argument("--calls", type=int, default=1, help="timed calls per attempt")
+    ap.add_argument("--oracle", action="store_true", help="frozen statuses of the solution")
     a = ap.parse_args()
 
     import jax
@@ -125,6 +171,9 @@ def main() -> None:
     rec_its = np.array([k[3] for k in kept])
     rec_ok = np.array([k[4] == 0 for k in kept])
     easy = rec_ok & (rec_its <= 4)
+    if a.oracle:
+        oracle(attempts, kept, topo, terms, integrator)
+        return
     print(
         f"recorded: {len(kept)} attempts, {rec_its.sum()} Newton iterations, "
         f"{(~rec_ok).sum()} failed; easy {easy.sum()}, hard {(rec_ok & ~easy).sum()}"
