@@ -133,13 +133,14 @@ def actuator_forces(bodies: Bodies, q, lam, s) -> np.ndarray:
     return -np.einsum("di,dij->dj", per_node, bodies.behind)
 
 
-def _kkt(bodies: Bodies, q, phi, lam, tips, s):
+def _kkt(bodies: Bodies, q, phi, lam, tips, s, held):
     """Residual (D, n) and Jacobian (D, n, n) of the equilibrium, n = 3 + 4B, unknowns
-    ordered (X, Y, theta, then per bristle phi_1, phi_2, lambda_x, lambda_y)."""
-    c, on = bodies.chain, bodies.on
+    ordered (X, Y, theta, then per bristle phi_1, phi_2, lambda_x, lambda_y). A tip not
+    ``held`` (D, B) is off the substrate: its rod is at rest and carries nothing."""
+    c, on = bodies.chain, bodies.on & held
     D, B = phi.shape[:2]
     v, g1, g2, d = _arms(bodies, q, phi, s)
-    w = np.where(on, bodies.weight, 0.0)
+    w = np.where(bodies.on, bodies.weight, 0.0)
     lam = np.where(on[..., None], lam, 0.0)
     n = 3 + 4 * B
     r = np.zeros((D, n))
@@ -198,9 +199,12 @@ class NewtonOptions:
     max_angle: float = 0.2
 
 
-def equilibrium(bodies: Bodies, q, phi, lam, tips, s, opts: NewtonOptions = NewtonOptions()):
-    """The pose, joint angles and tip multipliers in equilibrium with the tips held at
-    ``tips`` (Newton's method from (q, phi, lam)). Returns (q, phi, lam, converged)."""
+def equilibrium(
+    bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions = NewtonOptions()
+):
+    """The pose, joint angles and tip multipliers in equilibrium with the tips ``held``
+    (D, B) at ``tips``, the others free (Newton's method from (q, phi, lam)). Returns
+    (q, phi, lam, converged)."""
     D, B = phi.shape[:2]
     x = np.concatenate([q, np.concatenate([phi, lam], -1).reshape(D, 4 * B)], -1)
     done = np.zeros(D, bool)
@@ -210,7 +214,7 @@ def equilibrium(bodies: Bodies, q, phi, lam, tips, s, opts: NewtonOptions = Newt
             break
         xa = x[act]
         qa, pa, la = _split(xa, B)
-        r, K = _kkt(bodies.take(act), qa, pa, la, tips[act], s[act])
+        r, K = _kkt(bodies.take(act), qa, pa, la, tips[act], s[act], held[act])
         small = np.abs(r).max(axis=1) < opts.tol
         done[act[small]] = True
         try:

@@ -35,6 +35,7 @@ from bristlecrawler.reduced.bristled.body import (
     NewtonOptions,
     equilibrium,
     potential,
+    tips_of,
 )
 
 
@@ -45,13 +46,14 @@ class SlideOptions:
     Attributes:
         du_max: largest slide of a tip in one iteration, mm.
         tol: force beyond the Coulomb cone below which a tip sticks, N.
-        iterations: corrector iterations at most per step of s.
+        iterations: corrector iterations at most per step of s (a step that needs more
+            is counted as stalled, and its design fails).
         stiffness: first guess of a sliding tip's force drop per mm, N/mm.
     """
 
     du_max: float = 0.01
     tol: float = 1e-6
-    iterations: int = 4000
+    iterations: int = 400
     stiffness: float = 0.5
 
 
@@ -73,46 +75,49 @@ class Contacts:
 
 @dataclass
 class Tally:
-    """Running sums over a run, per design (mJ): the actuator's work, the dissipation,
-    its Coulomb part mu N |dT| and the work sum f ds of the actuator's force."""
+    """Running sums over a run, per design: the actuator's work, the dissipation and its
+    Coulomb part mu N |dT| (mJ); tips lifting off or touching down, equilibrium solves
+    that did not converge, and steps whose slides did not settle (counts)."""
 
     work: np.ndarray
     dissipation: np.ndarray
     coulomb: np.ndarray
     lifts: np.ndarray
     unconverged: np.ndarray
+    stalled: np.ndarray
 
     @classmethod
     def zeros(cls, n: int) -> Tally:
         z = np.zeros(n)
-        return cls(z.copy(), z.copy(), z.copy(), np.zeros(n, int), np.zeros(n, int))
+        i = np.zeros(n, int)
+        return cls(z.copy(), z.copy(), z.copy(), i.copy(), i.copy(), i.copy())
 
 
-def cone_excess(bodies: Bodies, contacts: Contacts, lam, u):
-    """Each tip's force beyond its Coulomb cone (N, (D, B); <= 0 sticks), the direction it
-    slides (+-1 along the path) and its normal force (N). The substrate's force on a tip
-    is -lambda."""
+def cone_excess(bodies: Bodies, contacts: Contacts, lam, u, held):
+    """Each held tip's force beyond its Coulomb cone (N, (D, B); <= 0 sticks, -1 for a
+    free tip), the direction it slides (+-1 along the path) and its normal force (N). The
+    substrate's force on a tip is -lambda."""
     _, t, n = contacts.frame(u)
     normal = -np.sum(lam * n, -1)
     tangential = -np.sum(lam * t, -1)
     excess = np.abs(tangential) - contacts.mu[:, None] * np.maximum(normal, 0.0)
-    excess = np.where(bodies.on, excess, -1.0)
+    excess = np.where(bodies.on & held, excess, -1.0)
     return excess, -np.sign(tangential), normal
 
 
 def predict(bodies, contacts, pose, u, s_old, s_new, tally: Tally, newton=NewtonOptions()):
     """The stick predictor: the equilibrium at ``s_new`` with the tips held. ``pose`` is
-    (q, phi, lambda); returns the new one."""
+    (q, phi, lambda, held); returns the new one."""
     tips, _, _ = contacts.frame(u)
-    q, phi, lam = pose
+    q, phi, lam, held = pose
     before = potential(bodies, q, phi, s_old)
-    q, phi, lam, ok = equilibrium(bodies, q, phi, lam, tips, s_new, newton)
+    q, phi, lam, ok = equilibrium(bodies, q, phi, lam, tips, s_new, held, newton)
     tally.work += potential(bodies, q, phi, s_new) - before
     tally.unconverged += ~ok
-    return q, phi, lam
+    return q, phi, lam, held
 
 
-def _slide_step(excess, dirn, last_ex, last_du, opts):
+def _slide_step(excess, last_ex, last_du, opts):
     """How far each tip beyond its cone slides next: a secant step on its excess force
     along the path, at most ``du_max`` (the full step where the excess does not fall)."""
     moved = last_du > 0
@@ -124,32 +129,59 @@ def _slide_step(excess, dirn, last_ex, last_du, opts):
     return np.where(excess > opts.tol, du, 0.0)
 
 
+def _lift_and_touch(bodies, contacts, pose, u, s, opts):
+    """A tip pulled upwards (the substrate's force on it pointing down by more than
+    ``tol``) that does not slide comes free, the one pulled hardest of each design at a
+    time; free tips whose rest place is below the substrate touch down where they are.
+    (A tip pushed away from a groove's wall but not up slides along the corner's bend
+    instead.) Returns (held, u, changed (D,) bool)."""
+    q, phi, lam, held = pose
+    excess, _, _ = cone_excess(bodies, contacts, lam, u, held)
+    pull = np.where(held & (excess <= opts.tol), lam[..., 1], -np.inf)
+    worst = np.argmax(pull, axis=1)
+    lift = np.zeros_like(held)
+    lift[np.arange(len(q)), worst] = pull[np.arange(len(q)), worst] > opts.tol
+    free = bodies.on & ~held & ~lift
+    tips = tips_of(bodies, q, phi, s)
+    which = np.broadcast_to(contacts.which[:, None], u.shape)
+    below = free & (tips[..., 1] < contacts.paths.height_at(which, tips[..., 0]))
+    u = np.where(below, contacts.paths.arc_at(which, tips[..., 0]), u)
+    held = (held & ~lift) | below
+    return held, u, (lift | below).any(axis=1)
+
+
 def correct(bodies, contacts, pose, u, s, tally: Tally, opts=SlideOptions(), newton=NewtonOptions()):
     """The slide corrector at frozen ``s``: returns (pose, u)."""
-    q, phi, lam = pose
+    q, phi, lam, held = pose
     start = potential(bodies, q, phi, s)
-    excess, dirn, normal = cone_excess(bodies, contacts, lam, u)
     rows = np.arange(len(q))
     last_du = np.zeros(u.shape)
-    last_ex = excess.copy()
+    last_ex = np.zeros(u.shape)
+    live = np.zeros(len(q), bool)
     for _ in range(opts.iterations):
-        live = (excess > opts.tol).any(axis=1)
+        held, u, changed = _lift_and_touch(bodies, contacts, (q, phi, lam, held), u, s, opts)
+        excess, dirn, normal = cone_excess(bodies, contacts, lam, u, held)
+        slide = excess > opts.tol
+        live = slide.any(axis=1) | changed
         if not live.any():
             break
         act = rows[live]
-        du = _slide_step(excess[act], dirn[act], last_ex[act], last_du[act], opts)
-        nf = normal[act]
-        tally.coulomb[act] += np.sum(contacts.mu[act][:, None] * np.maximum(nf, 0.0) * du, 1)
-        tally.lifts[act] += np.sum((du > 0) & (nf < 0), axis=1)
+        du = _slide_step(excess[act], last_ex[act], last_du[act], opts)
+        du = np.where(changed[act][:, None], 0.0, du)
+        tally.coulomb[act] += np.sum(contacts.mu[act][:, None] * np.maximum(normal[act], 0.0) * du, 1)
+        tally.lifts[act] += changed[act]
         u = u.copy()
         u[act] += dirn[act] * du
         ba, ca = bodies.take(act), contacts.take(act)
         tips_a, _, _ = ca.frame(u[act])
-        qa, pa, la, ok = equilibrium(ba, q[act], phi[act], lam[act], tips_a, s[act], newton)
+        qa, pa, la, ok = equilibrium(
+            ba, q[act], phi[act], lam[act], tips_a, s[act], held[act], newton
+        )
         q, phi, lam = q.copy(), phi.copy(), lam.copy()
         q[act], phi[act], lam[act] = qa, pa, la
         tally.unconverged[act] += ~ok
         last_ex[act], last_du[act] = excess[act], du
-        excess[act], dirn[act], normal[act] = cone_excess(ba, ca, la, u[act])
+    else:
+        tally.stalled += live
     tally.dissipation += start - potential(bodies, q, phi, s)
-    return (q, phi, lam), u
+    return (q, phi, lam, held), u

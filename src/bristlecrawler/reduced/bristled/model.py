@@ -149,8 +149,9 @@ class BristledResult:
             of the bristles' elastic and the body's gravitational energy over the strokes,
             mJ. force_work: sum f ds of the actuators' force over the steps (a check of
             ``work``), mJ.
-        lifts: corrector iterations in which a sliding tip was pulled off (N < 0).
-        unconverged: body equilibrium solves that did not converge.
+        lifts: tips lifting off the substrate or touching down again.
+        unconverged: equilibrium solves that did not converge.
+        stalled: steps whose slide corrector did not settle within its iterations.
         s_max: the designs' strokes, mm.
     """
 
@@ -163,6 +164,7 @@ class BristledResult:
     force_work: np.ndarray
     lifts: np.ndarray
     unconverged: np.ndarray
+    stalled: np.ndarray
     s_max: np.ndarray
 
     @property
@@ -182,8 +184,9 @@ class BristledResult:
 
     @property
     def ok(self) -> np.ndarray:
-        """Every equilibrium solve converged and no tip was pulled off (D,) bool."""
-        return (self.unconverged == 0) & (self.lifts == 0)
+        """Every equilibrium solve converged and every step's slides settled (D,) bool;
+        where not, the design's numbers are not to be used."""
+        return (self.unconverged == 0) & (self.stalled == 0) & np.isfinite(self.work)
 
 
 def _bodies(designs) -> tuple[Bodies, np.ndarray]:
@@ -257,8 +260,9 @@ def _put_down(bodies: Bodies, contacts: Contacts, designs, newton):
     q = np.stack([body_x, body_y, np.zeros(len(start))], -1)
     lam = -load
     s = np.zeros((len(start), bodies.place.shape[1] - 1))
-    q, phi, lam, _ = equilibrium(bodies, q, phi, lam, tips, s, newton)
-    return (q, phi, lam), u
+    held = bodies.on.copy()
+    q, phi, lam, _ = equilibrium(bodies, q, phi, lam, tips, s, held, newton)
+    return (q, phi, lam, held), u
 
 
 def run(designs, cycles: int = 2, options: RunOptions = RunOptions()) -> BristledResult:
@@ -302,6 +306,7 @@ def run(designs, cycles: int = 2, options: RunOptions = RunOptions()) -> Bristle
         force_work=force_work,
         lifts=tally.lifts,
         unconverged=tally.unconverged,
+        stalled=tally.stalled,
         s_max=s_max,
     )
 

@@ -178,7 +178,9 @@ class TipPath:
     angle: np.ndarray
 
     @classmethod
-    def over(cls, outline: np.ndarray, shape: np.ndarray, samples: int = 2048) -> TipPath:
+    def over(
+        cls, outline: np.ndarray, shape: np.ndarray, samples: int = 2048, bend: float = 0.0
+    ) -> TipPath:
         """The path of a tip of ``shape`` (points about its reference point, mm; e.g.
         :func:`disc_shape`, :func:`bristle_end_shape`) over the periodic ``outline``
         (points of one period, the last one period after the first, same height)."""
@@ -196,7 +198,13 @@ class TipPath:
         # Tangents by central differences over the periodic samples.
         xe = np.concatenate([[x[-2] - period], x, [x[1] + period]])
         ye = np.concatenate([[y[-2]], y, [y[1]]])
-        angle = np.arctan2(ye[2:] - ye[:-2], xe[2:] - xe[:-2])
+        angle = np.unwrap(np.arctan2(ye[2:] - ye[:-2], xe[2:] - xe[:-2]))
+        # A concave corner's bend spread over ``bend`` mm of arc, so that a tip pushed into
+        # it finds the normal that takes its force within a few slide steps.
+        n = max(1, int(round(bend / (arc[-1] / samples))))
+        if n > 1:
+            ring = np.concatenate([angle[-n - 1 : -1], angle, angle[1 : n + 1]])
+            angle = np.convolve(ring, np.ones(n) / n, mode="same")[n:-n]
         return cls(period, float(arc[-1]), x, y, angle)
 
 
@@ -238,20 +246,27 @@ class PathTable:
         n = np.stack([-t[..., 1], t[..., 0]], -1)
         return np.stack([x, y], -1), t, n
 
-    def arc_at(self, which, x):
-        """Arc length u (mm) where the path ``which`` (integer array) first reaches ``x``
-        (mm)."""
-        which = np.asarray(which)
-        x = np.asarray(x, dtype=float)
+    def _per_path(self, which, x, table):
+        """Interpolate ``table(path) -> (xs, values)`` at ``x`` on the paths ``which``,
+        one period's x folded in; returns (values, whole periods)."""
+        which, x = np.broadcast_arrays(np.asarray(which), np.asarray(x, dtype=float))
         pitch = self.pitch[which]
-        x0 = self.x[which, 0]
-        turns = np.floor((x - x0) / pitch)
+        turns = np.floor((x - self.x[which, 0]) / pitch)
         xr = x - turns * pitch
-        out = np.empty(np.broadcast(which, x).shape)
+        out = np.empty(x.shape)
+        for k in np.unique(which):
+            sel = which == k
+            xs, values = table(k)
+            out[sel] = np.interp(xr[sel], xs, values)
+        return out, turns
+
+    def arc_at(self, which, x):
+        """Arc length u (mm) where the paths ``which`` (integer array) reach ``x`` (mm)."""
         m = self.x.shape[1] - 1
-        for idx in np.ndindex(out.shape):
-            wi = which[idx] if which.ndim else which
-            xs = self.x[wi]
-            k = np.interp(xr[idx], xs, np.arange(m + 1))
-            out[idx] = (turns[idx] + k / m) * self.length[wi]
-        return out
+        frac, turns = self._per_path(which, x, lambda k: (self.x[k], np.arange(m + 1) / m))
+        return (turns + frac) * self.length[np.asarray(which)]
+
+    def height_at(self, which, x):
+        """The path's height (mm) at ``x`` (mm): where a tip there touches."""
+        y, _ = self._per_path(which, x, lambda k: (self.x[k], self.y[k]))
+        return y
