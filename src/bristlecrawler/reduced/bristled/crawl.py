@@ -49,12 +49,14 @@ class SlideOptions:
         iterations: corrector iterations at most per step of s (a step that needs more
             is counted as stalled, and its design fails).
         stiffness: first guess of a sliding tip's force drop per mm, N/mm.
+        near: a tip within this force of its cone's edge (N) may slide with the others.
     """
 
     du_max: float = 0.01
     tol: float = 1e-6
     iterations: int = 400
     stiffness: float = 0.5
+    near: float = 1e-3
 
 
 @dataclass(frozen=True)
@@ -150,6 +152,45 @@ def _lift_and_touch(bodies, contacts, pose, u, s, opts):
     return held, u, (lift | below).any(axis=1)
 
 
+def _coupled_step(bodies, contacts, pose, u, s, excess, dirn, fallback, opts, newton):
+    """Slides that bring every tip beyond its cone back onto it together, to first order:
+    the tips' excess forces' sensitivities to each other's slides by finite differences
+    (a tip's slide loads the others through the stiff body), then the linear solve; where
+    that asks for a slide backwards or beyond ``du_max`` (a snap), ``fallback``."""
+    q, phi, lam, held = pose
+    h = 1e-6
+    n_b = u.shape[1]
+    # Tips on their cones' edge may slide too, as the others' slides load them.
+    moving = excess > -opts.near
+    jac = np.zeros((*u.shape, n_b))
+    for j in range(n_b):
+        if not moving[:, j].any():
+            continue
+        up = u.copy()
+        up[:, j] += dirn[:, j] * h
+        tips, _, _ = contacts.frame(up)
+        _, _, lj, _ = equilibrium(bodies, q, phi, lam, tips, s, held, newton)
+        ex_j, _, _ = cone_excess(bodies, contacts, lj, up, held)
+        jac[:, :, j] = (ex_j - excess) / h
+    # Tips the others' slides bring back within their cones stay (an active set).
+    for _ in range(n_b):
+        both = moving[:, :, None] & moving[:, None, :]
+        m = np.where(both, jac, 0.0) + np.where(moving, 0.0, 1.0)[:, :, None] * np.eye(n_b)
+        ok = np.abs(np.linalg.det(m)) > 1e-300
+        m[~ok] = np.eye(n_b)
+        du = np.linalg.solve(m, np.where(moving, -excess, 0.0)[..., None])[..., 0]
+        back = moving & (du <= 0)
+        if not back.any():
+            break
+        moving = moving & ~back
+    du = np.where(moving, du, 0.0)
+    # A slide longer than du_max / 5 (the linear model's reach) is cut, all tips in proportion.
+    cap = 0.2 * opts.du_max
+    du = du * np.minimum(1.0, cap / np.maximum(du.max(axis=1), 1e-300))[:, None]
+    good = ok & moving.any(axis=1) & np.all(np.isfinite(du), axis=1)
+    return np.where(good[:, None], du, fallback)
+
+
 def correct(bodies, contacts, pose, u, s, tally: Tally, opts=SlideOptions(), newton=NewtonOptions()):
     """The slide corrector at frozen ``s``: returns (pose, u)."""
     q, phi, lam, held = pose
@@ -166,13 +207,22 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=SlideOptions(), new
         if not live.any():
             break
         act = rows[live]
+        ba, ca = bodies.take(act), contacts.take(act)
         du = _slide_step(excess[act], last_ex[act], last_du[act], opts)
+        # Three or more tips hold the body stiffly: their slides are solved together.
+        many = np.flatnonzero(bodies.on[act].sum(axis=1) >= 3)
+        if many.size:
+            bm, cm, rows_m = ba.take(many), ca.take(many), act[many]
+            pose_m = (q[rows_m], phi[rows_m], lam[rows_m], held[rows_m])
+            du[many] = _coupled_step(
+                bm, cm, pose_m, u[rows_m], s[rows_m], excess[rows_m], dirn[rows_m], du[many],
+                opts, newton,
+            )
         du = np.where(changed[act][:, None], 0.0, du)
         tally.coulomb[act] += np.sum(contacts.mu[act][:, None] * np.maximum(normal[act], 0.0) * du, 1)
         tally.lifts[act] += changed[act]
         u = u.copy()
         u[act] += dirn[act] * du
-        ba, ca = bodies.take(act), contacts.take(act)
         tips_a, _, _ = ca.frame(u[act])
         qa, pa, la, ok = equilibrium(
             ba, q[act], phi[act], lam[act], tips_a, s[act], held[act], newton

@@ -132,7 +132,7 @@ class RunOptions:
         newton: the body's equilibrium solve. slide: the slide corrector.
     """
 
-    ds: float = 0.05
+    ds: float = 0.1
     newton: NewtonOptions = NewtonOptions()
     slide: SlideOptions = SlideOptions()
 

@@ -179,7 +179,7 @@ class TipPath:
 
     @classmethod
     def over(
-        cls, outline: np.ndarray, shape: np.ndarray, samples: int = 2048, bend: float = 0.0
+        cls, outline: np.ndarray, shape: np.ndarray, samples: int = 2048, bend: float = 0.02
     ) -> TipPath:
         """The path of a tip of ``shape`` (points about its reference point, mm; e.g.
         :func:`disc_shape`, :func:`bristle_end_shape`) over the periodic ``outline``
