@@ -7,6 +7,8 @@ The drag tests come from cache entries written here (no FE program is compiled).
 import json
 from pathlib import Path
 
+import pytest
+
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.jobs import predict
 from bristlecrawler.reduced.texture import TextureLaw
@@ -33,6 +35,8 @@ def _words(text: str) -> str:
     return " ".join(text.split())
 
 
+# Each runs the bristled model on the paper's design in a terminal of its own (seconds).
+@pytest.mark.slow
 def test_reversed_friction_is_said_and_the_papers_model_is_not_run(tmp_path, run_cli):
     cache = tmp_path / "drag"
     _cached(cache, ["substrate.pitch=3"], fn=0.2)
@@ -48,6 +52,8 @@ def test_reversed_friction_is_said_and_the_papers_model_is_not_run(tmp_path, run
 
 
 def test_the_json_says_the_same(tmp_path, monkeypatch, run_cli):
+    quick = {"net_advance_mm": 1.0, "advance_per_cycle_mm": [1.0, 0.0], "work_mJ": 1.0}
+    monkeypatch.setattr(predict, "bristled_result", lambda spec, cycles: (quick, None))
     monkeypatch.setenv("BRISTLECRAWLER_DRAG_CACHE", str(tmp_path / "drag"))
     _cached(tmp_path / "drag", ["substrate.pitch=3"], fn=0.2)
     code, out, _ = run_cli(["predict", "--set", "substrate.pitch=3", "--cycles", "2", "--json"])
@@ -59,6 +65,7 @@ def test_the_json_says_the_same(tmp_path, monkeypatch, run_cli):
     assert r["changes"] == ["substrate.pitch=3"]
 
 
+@pytest.mark.slow
 def test_models_that_disagree_by_more_than_a_pitch_say_which_was_checked(tmp_path):
     """F_n barely above F_p: the paper's model sees almost no grip, the texture law locks
     the tips at its walls; the output points to the comparison with the FE crawler."""

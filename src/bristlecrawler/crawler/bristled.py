@@ -78,17 +78,18 @@ def bristled_design(spec: CrawlerSpec) -> BristledDesign:
 
 def bristled_metrics(spec: CrawlerSpec, cycles: int | None = None) -> RunMetrics:
     """The bristled model's advance and work for ``spec`` (``cycles`` strokes, default the
-    spec's). Raises :class:`~bristlecrawler.errors.SolverError` where its run failed."""
+    spec's; the work its quasi-static limit, ``BristledResult.work_limit``). Raises :class:`~bristlecrawler.errors.SolverError` where its run failed."""
     from bristlecrawler.errors import SolverError
 
-    r = run([bristled_design(spec)], cycles or spec.actuation.cycles, RunOptions())
+    r = run([bristled_design(spec)], cycles or spec.actuation.cycles, RunOptions(extrapolate=True))
     if not bool(r.ok[0]):
         raise SolverError(
             f"the bristled model did not settle ({int(r.unconverged[0])} equilibrium solves "
             f"failed, {int(r.stalled[0])} steps' slides did not settle)"
         )
     adv = r.advance_per_cycle[0]
-    return RunMetrics(float(r.net_advance[0]), tuple(float(v) for v in adv), float(r.work[0]))
+    work = float(r.work_limit[0])
+    return RunMetrics(float(r.net_advance[0]), tuple(float(v) for v in adv), work)
 
 
 __all__ = ["bristled_design", "bristled_metrics"]
