@@ -69,8 +69,9 @@ def spec_of(overrides):
     return to_spec(sc)
 
 
-def rows(only: int | None = None, options: RunOptions = RunOptions(extrapolate=True)):
+def rows(only: int | None = None, options: RunOptions | None = None):
     """One row per design: the FE's and the bristled model's advance and work."""
+    options = options or RunOptions(extrapolate=True)
     items = [(o, fe) for o, fe in FE_RESULTS.items()]
     specs = [spec_of(o) for o, _ in items]
     out = []
@@ -135,7 +136,9 @@ def main(argv=None) -> None:
     one = sum(r["within_pitch"] for r in table)
     half = sum(r["within_half_pitch"] for r in table)
     work = sum(abs(r["work_error"]) <= 0.15 for r in table)
-    print(f"\nwithin one pitch {one}/{n}, within half a pitch {half}/{n}, work within 15 % {work}/{n}")
+    print(
+        f"\nwithin one pitch {one}/{n}, within half a pitch {half}/{n}, work within 15 % {work}/{n}"
+    )
 
 
 if __name__ == "__main__":

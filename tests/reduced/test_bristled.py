@@ -104,7 +104,8 @@ def test_a_discs_centre_path_keeps_the_disc_on_the_outline(pitch, width_fraction
     surface = GroovedSurface(width=width_fraction * pitch, depth=depth, pitch=pitch)
     outline = surface.outline()
     path = TipPath.over(outline, disc_shape(radius), samples=256)
-    pts = np.vstack([outline - [pitch, 0.0], outline, outline + [pitch, 0.0]])
+    shift = np.array([pitch, 0.0])
+    pts = np.vstack([outline - shift, outline, outline + shift])
     d = np.hypot(path.x[:, None] - pts[None, :, 0], path.y[:, None] - pts[None, :, 1]).min(1)
     assert d.min() > radius - 2e-3
     assert np.median(d) == pytest.approx(radius, abs=2e-3)

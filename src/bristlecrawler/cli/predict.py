@@ -34,9 +34,10 @@ def predict_cmd(
     """Predict a design's advance and work with the reduced models, before any FE run.
 
     The bristled model (elastic bristles on the real grooves, the body in equilibrium; no
-    FE) is the default and needs seconds. Beside it, unless --no-drag: runs a drag test of the scenario's bristle over its substrate (minutes; kept in the
-    drag cache: $BRISTLECRAWLER_DRAG_CACHE, else $XDG_CACHE_HOME/bristlecrawler/drag,
-    else ~/.cache/bristlecrawler/drag), then the reduced crawler on the texture law it gives
+    FE) is the default and needs seconds. Beside it, unless --no-drag: runs a drag test
+    of the scenario's bristle over its substrate (minutes; kept in the drag cache:
+    $BRISTLECRAWLER_DRAG_CACHE, else $XDG_CACHE_HOME/bristlecrawler/drag, else
+    ~/.cache/bristlecrawler/drag), then the reduced crawler on the texture law it gives
     and the paper's reduced model with its k, F_p, F_n. Each model's line says what it
     assumed; the paper's model is not run where the drag test finds F_n < F_p; where the
     two differ by more than a pitch per cycle, a note says which one the FE crawler has

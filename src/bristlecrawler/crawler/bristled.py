@@ -3,7 +3,6 @@ stroke, solved with no FE (:mod:`bristlecrawler.reduced.bristled`)."""
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from bristlecrawler.crawler.spec import CrawlerSpec
@@ -78,7 +77,8 @@ def bristled_design(spec: CrawlerSpec) -> BristledDesign:
 
 def bristled_metrics(spec: CrawlerSpec, cycles: int | None = None) -> RunMetrics:
     """The bristled model's advance and work for ``spec`` (``cycles`` strokes, default the
-    spec's; the work its quasi-static limit, ``BristledResult.work_limit``). Raises :class:`~bristlecrawler.errors.SolverError` where its run failed."""
+    spec's; the work its quasi-static limit, ``BristledResult.work_limit``). Raises
+    :class:`~bristlecrawler.errors.SolverError` where its run failed."""
     from bristlecrawler.errors import SolverError
 
     r = run([bristled_design(spec)], cycles or spec.actuation.cycles, RunOptions(extrapolate=True))
@@ -93,4 +93,3 @@ def bristled_metrics(spec: CrawlerSpec, cycles: int | None = None) -> RunMetrics
 
 
 __all__ = ["bristled_design", "bristled_metrics"]
-

@@ -96,7 +96,10 @@ def _arms(bodies: Bodies, q, phi, s):
     e2 = np.stack([c["l2"] * np.cos(p2), c["l2"] * np.sin(p2)], -1)
     e1 = np.stack([c["l1"] * np.cos(p1), c["l1"] * np.sin(p1)], -1) + e2
     a = np.stack(
-        [d + c["s1"] * np.cos(c["theta_r"]), -bodies.link[:, None] + c["s1"] * np.sin(c["theta_r"])],
+        [
+            d + c["s1"] * np.cos(c["theta_r"]),
+            -bodies.link[:, None] + c["s1"] * np.sin(c["theta_r"]),
+        ],
         -1,
     )
     th = q[:, 2]
@@ -199,9 +202,7 @@ class NewtonOptions:
     max_angle: float = 0.2
 
 
-def equilibrium(
-    bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions = NewtonOptions()
-):
+def equilibrium(bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions = NewtonOptions()):
     """The pose, joint angles and tip multipliers in equilibrium with the tips ``held``
     (D, B) at ``tips``, the others free (Newton's method from (q, phi, lam)). Returns
     (q, phi, lam, converged)."""

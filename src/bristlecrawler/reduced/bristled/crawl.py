@@ -107,9 +107,10 @@ def cone_excess(bodies: Bodies, contacts: Contacts, lam, u, held):
     return excess, -np.sign(tangential), normal
 
 
-def predict(bodies, contacts, pose, u, s_old, s_new, tally: Tally, newton=NewtonOptions()):
+def predict(bodies, contacts, pose, u, s_old, s_new, tally: Tally, newton=None):
     """The stick predictor: the equilibrium at ``s_new`` with the tips held. ``pose`` is
     (q, phi, lambda, held); returns the new one."""
+    newton = newton or NewtonOptions()
     tips, _, _ = contacts.frame(u)
     q, phi, lam, held = pose
     before = potential(bodies, q, phi, s_old)
@@ -191,8 +192,9 @@ def _coupled_step(bodies, contacts, pose, u, s, excess, dirn, fallback, opts, ne
     return np.where(good[:, None], du, fallback)
 
 
-def correct(bodies, contacts, pose, u, s, tally: Tally, opts=SlideOptions(), newton=NewtonOptions()):
+def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
     """The slide corrector at frozen ``s``: returns (pose, u)."""
+    opts, newton = opts or SlideOptions(), newton or NewtonOptions()
     q, phi, lam, held = pose
     start = potential(bodies, q, phi, s)
     rows = np.arange(len(q))
@@ -215,11 +217,21 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=SlideOptions(), new
             bm, cm, rows_m = ba.take(many), ca.take(many), act[many]
             pose_m = (q[rows_m], phi[rows_m], lam[rows_m], held[rows_m])
             du[many] = _coupled_step(
-                bm, cm, pose_m, u[rows_m], s[rows_m], excess[rows_m], dirn[rows_m], du[many],
-                opts, newton,
+                bm,
+                cm,
+                pose_m,
+                u[rows_m],
+                s[rows_m],
+                excess[rows_m],
+                dirn[rows_m],
+                du[many],
+                opts,
+                newton,
             )
         du = np.where(changed[act][:, None], 0.0, du)
-        tally.coulomb[act] += np.sum(contacts.mu[act][:, None] * np.maximum(normal[act], 0.0) * du, 1)
+        tally.coulomb[act] += np.sum(
+            contacts.mu[act][:, None] * np.maximum(normal[act], 0.0) * du, 1
+        )
         tally.lifts[act] += changed[act]
         u = u.copy()
         u[act] += dirn[act] * du

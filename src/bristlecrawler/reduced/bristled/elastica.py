@@ -22,7 +22,7 @@ from bristlecrawler.reduced.bristled.rod import TaperedBristle
 
 
 def _rhs(s, z, bristle, fx, fy):
-    x, y, th, m = z
+    th, m = z[2], z[3]
     return np.array(
         [
             math.cos(th),

@@ -137,8 +137,8 @@ class RunOptions:
 
     ds: float = 0.1
     extrapolate: bool = False
-    newton: NewtonOptions = NewtonOptions()
-    slide: SlideOptions = SlideOptions()
+    newton: NewtonOptions = field(default_factory=NewtonOptions)
+    slide: SlideOptions = field(default_factory=SlideOptions)
 
 
 @dataclass(frozen=True)
@@ -314,7 +314,9 @@ def _play(designs, cycles: int, options: RunOptions) -> BristledResult:
             pose = predict(bodies, contacts, pose, u, s_old, s_new, tally, options.newton)
             f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
             force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
-            pose, u = correct(bodies, contacts, pose, u, s_new, tally, options.slide, options.newton)
+            pose, u = correct(
+                bodies, contacts, pose, u, s_new, tally, options.slide, options.newton
+            )
             s_old = s_new
         front.append(_front(bodies, pose[0]))
     e1 = energy(bodies, pose[0], pose[1], zero)

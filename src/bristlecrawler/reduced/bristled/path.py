@@ -17,6 +17,7 @@ force enters the friction cone of one of those normals. Units: mm.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,7 +65,7 @@ def densify(points: np.ndarray, spacing: float) -> np.ndarray:
     """The polyline ``points`` (n, 2) with points added so that none are further apart than
     ``spacing`` (mm)."""
     out = [points[:1]]
-    for a, b in zip(points[:-1], points[1:], strict=True):
+    for a, b in itertools.pairwise(points):
         n = max(1, int(np.ceil(np.hypot(*(b - a)) / spacing)))
         t = np.arange(1, n + 1)[:, None] / n
         out.append(a + t * (b - a))
@@ -143,8 +144,13 @@ class GroovedSurface:
     def outline(self) -> np.ndarray:
         """Points of one period, mm (n, 2)."""
         return groove_outline(
-            self.width, self.depth, self.pitch, self.phase, self.top,
-            self.fillet_top, self.fillet_bottom,
+            self.width,
+            self.depth,
+            self.pitch,
+            self.phase,
+            self.top,
+            self.fillet_top,
+            self.fillet_bottom,
         )
 
 
@@ -201,7 +207,7 @@ class TipPath:
         angle = np.unwrap(np.arctan2(ye[2:] - ye[:-2], xe[2:] - xe[:-2]))
         # A concave corner's bend spread over ``bend`` mm of arc, so that a tip pushed into
         # it finds the normal that takes its force within a few slide steps.
-        n = max(1, int(round(bend / (arc[-1] / samples))))
+        n = max(1, round(bend / (arc[-1] / samples)))
         if n > 1:
             ring = np.concatenate([angle[-n - 1 : -1], angle, angle[1 : n + 1]])
             angle = np.convolve(ring, np.ones(n) / n, mode="same")[n:-n]

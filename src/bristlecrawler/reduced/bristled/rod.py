@@ -232,7 +232,10 @@ def chain_angles_under_force(force, p, iterations: int = 60):
     for _ in range(iterations):
         t1 = p["theta_r"] + phi[0]
         t2 = t1 + phi[1]
-        a1 = (p["l1"] * np.cos(t1) + p["l2"] * np.cos(t2), p["l1"] * np.sin(t1) + p["l2"] * np.sin(t2))
+        a1 = (
+            p["l1"] * np.cos(t1) + p["l2"] * np.cos(t2),
+            p["l1"] * np.sin(t1) + p["l2"] * np.sin(t2),
+        )
         a2 = (p["l2"] * np.cos(t2), p["l2"] * np.sin(t2))
         m1 = a1[0] * fy - a1[1] * fx
         m2 = a2[0] * fy - a2[1] * fx
