@@ -26,6 +26,7 @@ def _quick_bristled(request, monkeypatch):
     monkeypatch.setattr(predict, "bristled_result", lambda spec, cycles: (quick, None))
 
 
+@pytest.mark.slow
 def test_the_bristled_model_is_the_default_and_needs_no_drag_test(monkeypatch, run_cli):
     monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", _no_drag)
     argv = ["predict", "--set", "actuation.s_max=4", "--cycles", "1", "--no-drag", "--json"]

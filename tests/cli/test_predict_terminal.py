@@ -7,8 +7,6 @@ The drag tests come from cache entries written here (no FE program is compiled).
 import json
 from pathlib import Path
 
-import pytest
-
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.jobs import predict
 from bristlecrawler.reduced.texture import TextureLaw
@@ -35,12 +33,10 @@ def _words(text: str) -> str:
     return " ".join(text.split())
 
 
-# Each runs the bristled model on the paper's design in a terminal of its own (seconds).
-@pytest.mark.slow
 def test_reversed_friction_is_said_and_the_papers_model_is_not_run(tmp_path, run_cli):
     cache = tmp_path / "drag"
     _cached(cache, ["substrate.pitch=3"], fn=0.2)
-    argv = ["predict", "--set", "substrate.pitch=3", "--cycles", "2"]
+    argv = ["predict", "--set", "substrate.pitch=3", "--cycles", "2", "--no-bristled"]
     env = {"BRISTLECRAWLER_DRAG_CACHE": str(cache), "BRISTLECRAWLER_COSTS": str(tmp_path / "c")}
     shown = _words(under_a_terminal(cli(*argv), 100, env))
     assert "paper with substrate.pitch=3: reduced models, 2 cycles" in shown
@@ -65,18 +61,18 @@ def test_the_json_says_the_same(tmp_path, monkeypatch, run_cli):
     assert r["changes"] == ["substrate.pitch=3"]
 
 
-@pytest.mark.slow
 def test_models_that_disagree_by_more_than_a_pitch_say_which_was_checked(tmp_path):
     """F_n barely above F_p: the paper's model sees almost no grip, the texture law locks
     the tips at its walls; the output points to the comparison with the FE crawler."""
     cache = tmp_path / "drag"
     _cached(cache, [], fn=0.23)
     env = {"BRISTLECRAWLER_DRAG_CACHE": str(cache), "BRISTLECRAWLER_COSTS": str(tmp_path / "c")}
-    shown = _words(under_a_terminal(cli("predict", "--cycles", "2", "--json"), 100, env))
+    argv = ("predict", "--cycles", "2", "--no-bristled")
+    shown = _words(under_a_terminal(cli(*argv, "--json"), 100, env))
     r = json.loads(shown[shown.index("{") :])
     gap = abs(r["texture"]["net_advance_mm"] - r["paper"]["net_advance_mm"]) / 2
     assert gap > r["drag"]["pitch_mm"]  # the case this test is about
-    shown = _words(under_a_terminal(cli("predict", "--cycles", "2"), 100, env))
+    shown = _words(under_a_terminal(cli(*argv), 100, env))
     assert f"differ by {gap:.2f} mm per cycle" in shown
     assert "texture-law model came closer" in shown
     assert "docs/findings.md" in shown

@@ -29,6 +29,14 @@ def predict_cmd(
             "paper's models need; --no-drag gives the bristled model alone, in seconds",
         ),
     ] = True,
+    bristled: Annotated[
+        bool,
+        typer.Option(
+            "--bristled/--no-bristled",
+            help="run the bristled model (the default model, seconds to a minute); "
+            "--no-bristled gives the drag-test models alone",
+        ),
+    ] = True,
     as_json: JsonSummary = False,
 ) -> None:
     """Predict a design's advance and work with the reduced models, before any FE run.
@@ -54,7 +62,9 @@ def predict_cmd(
     if assign:
         sc = apply_overrides(sc, list(assign))
     enable_compilation_cache()
-    result = run_predict(sc, cycles, progress=None if not as_json else False, drag=drag)
+    result = run_predict(
+        sc, cycles, progress=None if not as_json else False, drag=drag, bristled=bristled
+    )
     result["changes"] = list(assign or [])
     if as_json:
         from bristlecrawler.io.jsonio import dumps_strict

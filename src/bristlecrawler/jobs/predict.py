@@ -186,7 +186,11 @@ def bristled_result(spec, cycles: int) -> tuple[dict | None, str | None]:
 
 
 def run_predict(
-    sc, cycles: int | None = None, progress: bool | None = False, drag: bool = True
+    sc,
+    cycles: int | None = None,
+    progress: bool | None = False,
+    drag: bool = True,
+    bristled: bool = True,
 ) -> dict[str, Any]:
     """Checks (one-line InputError), the bristled model, then (with ``drag``) the drag
     test (cached) and the texture and paper models: a JSON-ready dict.
@@ -214,6 +218,10 @@ def run_predict(
     spec = to_spec(sc)
     spec.check()
     cycles = cycles or spec.actuation.cycles
+    if not (drag or bristled):
+        from bristlecrawler.errors import InputError
+
+        raise InputError("--no-drag and --no-bristled leave no model to run")
     test = prediction_drag_test(spec) if drag else None
     if drag:
         test.check(spec)  # the test's checks, before minutes of drag test
@@ -221,7 +229,10 @@ def run_predict(
         drag_estimate(sc, test).check()
     results = {name: None for name in LABELS}
     refused = {name: None for name in LABELS}
-    results[DEFAULT], refused[DEFAULT] = bristled_result(spec, cycles)
+    if bristled:
+        results[DEFAULT], refused[DEFAULT] = bristled_result(spec, cycles)
+    else:
+        refused[DEFAULT] = "not asked for (--no-bristled)"
     assumed = {DEFAULT: bristled_assumptions(spec, cycles)}
     out = {"scenario": sc.name, "cycles": cycles, "default": DEFAULT}
     if drag:
