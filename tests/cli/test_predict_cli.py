@@ -1,4 +1,5 @@
-"""``bristlecrawler predict``: both reduced models from a (cached) drag test, bad input."""
+"""``bristlecrawler predict``: the bristled model by default, the drag-test models beside it
+from a (cached) drag test, bad input."""
 
 import json
 from pathlib import Path
@@ -14,6 +15,29 @@ from bristlecrawler.scenario.convert import to_spec
 from bristlecrawler.scenario.load import load_scenario
 
 K, FP, FN = 1.2, 0.22, 0.5
+
+
+@pytest.fixture(autouse=True)
+def _quick_bristled(request, monkeypatch):
+    """The bristled model's seconds-long run is not what the drag-cache tests are about."""
+    if "bristled" in request.node.name:
+        return
+    quick = {"net_advance_mm": 1.0, "advance_per_cycle_mm": [1.0], "work_mJ": 1.0}
+    monkeypatch.setattr(predict, "bristled_result", lambda spec, cycles: (quick, None))
+
+
+@pytest.mark.slow
+def test_the_bristled_model_is_the_default_and_needs_no_drag_test(monkeypatch, run_cli):
+    monkeypatch.setattr("bristlecrawler.jobs.drag.run_drag", _no_drag)
+    argv = ["predict", "--set", "actuation.s_max=4", "--cycles", "1", "--no-drag", "--json"]
+    code, out, _ = run_cli(argv)
+    assert code == 0
+    r = json.loads(out)
+    assert r["default"] == "bristled"
+    assert r["bristled"]["advance_per_cycle_mm"][0] > 0.5
+    assert r["texture"] is None and r["paper"] is None and r["drag"] is None
+    assert "drag test" in r["models"]["texture"]["not_run"]
+    assert "docs/findings.md" in r["models"]["bristled"]["checked"]
 
 
 def _summary(law: TextureLaw) -> dict:

@@ -36,7 +36,7 @@ def _words(text: str) -> str:
 def test_reversed_friction_is_said_and_the_papers_model_is_not_run(tmp_path, run_cli):
     cache = tmp_path / "drag"
     _cached(cache, ["substrate.pitch=3"], fn=0.2)
-    argv = ["predict", "--set", "substrate.pitch=3", "--cycles", "2"]
+    argv = ["predict", "--set", "substrate.pitch=3", "--cycles", "2", "--no-bristled"]
     env = {"BRISTLECRAWLER_DRAG_CACHE": str(cache), "BRISTLECRAWLER_COSTS": str(tmp_path / "c")}
     shown = _words(under_a_terminal(cli(*argv), 100, env))
     assert "paper with substrate.pitch=3: reduced models, 2 cycles" in shown
@@ -48,6 +48,8 @@ def test_reversed_friction_is_said_and_the_papers_model_is_not_run(tmp_path, run
 
 
 def test_the_json_says_the_same(tmp_path, monkeypatch, run_cli):
+    quick = {"net_advance_mm": 1.0, "advance_per_cycle_mm": [1.0, 0.0], "work_mJ": 1.0}
+    monkeypatch.setattr(predict, "bristled_result", lambda spec, cycles: (quick, None))
     monkeypatch.setenv("BRISTLECRAWLER_DRAG_CACHE", str(tmp_path / "drag"))
     _cached(tmp_path / "drag", ["substrate.pitch=3"], fn=0.2)
     code, out, _ = run_cli(["predict", "--set", "substrate.pitch=3", "--cycles", "2", "--json"])
@@ -65,11 +67,12 @@ def test_models_that_disagree_by_more_than_a_pitch_say_which_was_checked(tmp_pat
     cache = tmp_path / "drag"
     _cached(cache, [], fn=0.23)
     env = {"BRISTLECRAWLER_DRAG_CACHE": str(cache), "BRISTLECRAWLER_COSTS": str(tmp_path / "c")}
-    shown = _words(under_a_terminal(cli("predict", "--cycles", "2", "--json"), 100, env))
+    argv = ("predict", "--cycles", "2", "--no-bristled")
+    shown = _words(under_a_terminal(cli(*argv, "--json"), 100, env))
     r = json.loads(shown[shown.index("{") :])
     gap = abs(r["texture"]["net_advance_mm"] - r["paper"]["net_advance_mm"]) / 2
     assert gap > r["drag"]["pitch_mm"]  # the case this test is about
-    shown = _words(under_a_terminal(cli("predict", "--cycles", "2"), 100, env))
+    shown = _words(under_a_terminal(cli(*argv), 100, env))
     assert f"differ by {gap:.2f} mm per cycle" in shown
     assert "texture-law model came closer" in shown
     assert "docs/findings.md" in shown

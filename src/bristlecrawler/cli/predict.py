@@ -21,13 +21,31 @@ def predict_cmd(
         int | None,
         typer.Option("--cycles", help="number of strokes [default: the scenario's]"),
     ] = None,
+    drag: Annotated[
+        bool,
+        typer.Option(
+            "--drag/--no-drag",
+            help="run (or read from the cache) the FE drag test that the texture-law and "
+            "paper's models need; --no-drag gives the bristled model alone, in seconds",
+        ),
+    ] = True,
+    bristled: Annotated[
+        bool,
+        typer.Option(
+            "--bristled/--no-bristled",
+            help="run the bristled model (the default model, seconds to a minute); "
+            "--no-bristled gives the drag-test models alone",
+        ),
+    ] = True,
     as_json: JsonSummary = False,
 ) -> None:
     """Predict a design's advance and work with the reduced models, before any FE run.
 
-    Runs a drag test of the scenario's bristle over its substrate (minutes; kept in the
-    drag cache: $BRISTLECRAWLER_DRAG_CACHE, else $XDG_CACHE_HOME/bristlecrawler/drag,
-    else ~/.cache/bristlecrawler/drag), then the reduced crawler on the texture law it gives
+    The bristled model (elastic bristles on the real grooves, the body in equilibrium; no
+    FE) is the default and needs seconds. Beside it, unless --no-drag: runs a drag test
+    of the scenario's bristle over its substrate (minutes; kept in the drag cache:
+    $BRISTLECRAWLER_DRAG_CACHE, else $XDG_CACHE_HOME/bristlecrawler/drag, else
+    ~/.cache/bristlecrawler/drag), then the reduced crawler on the texture law it gives
     and the paper's reduced model with its k, F_p, F_n. Each model's line says what it
     assumed; the paper's model is not run where the drag test finds F_n < F_p; where the
     two differ by more than a pitch per cycle, a note says which one the FE crawler has
@@ -44,7 +62,9 @@ def predict_cmd(
     if assign:
         sc = apply_overrides(sc, list(assign))
     enable_compilation_cache()
-    result = run_predict(sc, cycles, progress=None if not as_json else False)
+    result = run_predict(
+        sc, cycles, progress=None if not as_json else False, drag=drag, bristled=bristled
+    )
     result["changes"] = list(assign or [])
     if as_json:
         from bristlecrawler.io.jsonio import dumps_strict
@@ -74,23 +94,28 @@ def _print(r: dict) -> None:
     table.add_column("net advance (mm)", justify="right")
     table.add_column("work (mJ)", justify="right")
     for name, model in r["models"].items():
+        label = model["label"] + (" [default]" if name == r["default"] else "")
         if r[name] is None:
-            table.add_row(model["label"], "not run (below)", "", "")
+            table.add_row(label, "not run (below)", "", "")
             continue
         m = RunMetrics.from_dict(r[name])
         per = ", ".join(f"{a:.2f}" for a in m.advance_per_cycle)
-        table.add_row(model["label"], per, f"{m.net_advance:.3f}", f"{m.work:.3f}")
+        table.add_row(label, per, f"{m.net_advance:.3f}", f"{m.work:.3f}")
     console = Console()
     say = lambda text: console.print(text, markup=False, highlight=False)  # noqa: E731
     say(table)
     d = r["drag"]
-    where = "from the drag cache" if d["cached"] else "run now"
-    say(
-        f"FE drag test of one bristle ({where}): k = {d['k_N_per_mm']:.3f} N/mm, "
-        f"F_p = {d['fp_N']:.3f} N, F_n = {d['fn_N']:.3f} N, pitch {d['pitch_mm']:g} mm"
-    )
+    if d is not None:
+        where = "from the drag cache" if d["cached"] else "run now"
+        say(
+            f"FE drag test of one bristle ({where}): k = {d['k_N_per_mm']:.3f} N/mm, "
+            f"F_p = {d['fp_N']:.3f} N, F_n = {d['fn_N']:.3f} N, pitch {d['pitch_mm']:g} mm"
+        )
     for model in r["models"].values():
-        say(f"{model['label']} assumes: {model['assumes']}")
+        if model["assumes"]:
+            say(f"{model['label']} assumes: {model['assumes']}")
+    for model in r["models"].values():
+        say(f"{model['label']} checked against the FE crawler: {model['checked']}")
     for model in r["models"].values():
         if model["not_run"]:
             say(f"{model['label']} not applicable: {model['not_run']}")

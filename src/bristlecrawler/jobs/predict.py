@@ -1,6 +1,7 @@
 """The ``bristlecrawler predict`` job: the reduced models of a scenario, before any FE run.
 
-A drag test of the scenario's bristle over its substrate (back and forth over whole
+The bristled model (:mod:`bristlecrawler.reduced.bristled`) needs no FE and is the
+default. A drag test of the scenario's bristle over its substrate (back and forth over whole
 pitches) gives the paper's parameters (k, F_p, F_n) and the texture law (k, F_p(x),
 F_n(x)); both reduced crawlers then play the scenario's actuation. Drag tests cost minutes,
 so their summaries are kept in a cache folder (``$BRISTLECRAWLER_DRAG_CACHE``, default
@@ -173,18 +174,42 @@ def predict_models(
     return out
 
 
-def run_predict(sc, cycles: int | None = None, progress: bool | None = False) -> dict[str, Any]:
-    """Checks (one-line InputError), drag test (cached), both models: a JSON-ready dict.
+def bristled_result(spec, cycles: int) -> tuple[dict | None, str | None]:
+    """The bristled model's metrics of ``spec`` (a JSON mapping), or None and why it was
+    not run or did not settle."""
+    from bristlecrawler.crawler.bristled import bristled_metrics
+    from bristlecrawler.errors import InputError, SolverError
 
-    Each model's entry under ``models`` says what it assumed, and why it was not run where
-    it does not apply (``paper`` is then None); ``disagreement`` is the line for models
-    that differ by more than a pitch per cycle (see :mod:`bristlecrawler.jobs.predict_report`).
+    try:
+        return bristled_metrics(spec, cycles).to_dict(), None
+    except (InputError, SolverError) as exc:
+        return None, str(exc)
+
+
+def run_predict(
+    sc,
+    cycles: int | None = None,
+    progress: bool | None = False,
+    drag: bool = True,
+    bristled: bool = True,
+) -> dict[str, Any]:
+    """Checks (one-line InputError), the bristled model, then (with ``drag``) the drag
+    test (cached) and the texture and paper models: a JSON-ready dict.
+
+    ``default`` names the model whose numbers to use (the bristled model); each model's
+    results are under its name, and its entry under ``models`` says what it assumed, where
+    it was checked, and why it was not run where it does not apply (its results are then
+    None); ``disagreement`` is the line for drag-test models that differ by more than a
+    pitch per cycle (see :mod:`bristlecrawler.jobs.predict_report`).
     """
     import math
 
     from bristlecrawler.jobs.predict_report import (
+        CHECKED,
+        DEFAULT,
         LABELS,
         assumptions,
+        bristled_assumptions,
         disagreement,
         paper_model_refusal,
     )
@@ -192,36 +217,57 @@ def run_predict(sc, cycles: int | None = None, progress: bool | None = False) ->
     from bristlecrawler.scenario.drag import drag_estimate
 
     spec = to_spec(sc)
-    test = prediction_drag_test(spec)
-    spec.check()  # the design's and the test's checks, before minutes of drag test
-    test.check(spec)
-    # Refused as `drag` refuses it, cached or not: an entry for it cannot be honest.
-    drag_estimate(sc, test).check()
+    spec.check()
     cycles = cycles or spec.actuation.cycles
-    summary, hit = cached_drag(sc, test, progress)
-    scatter = summary.along.scatter if summary.along else math.nan
-    refused = {"paper": paper_model_refusal(summary.fp, summary.fn, scatter)}
-    models = predict_models(spec, summary, cycles, paper=refused["paper"] is None)
-    law = summary.texture
-    results = {name: (models[name].to_dict() if name in models else None) for name in LABELS}
-    assumed = assumptions(summary, cycles, len(spec.bristles))
-    return {
-        "scenario": sc.name,
-        "cycles": cycles,
-        **results,
-        "models": {
-            name: {"label": label, "assumes": assumed[name], "not_run": refused.get(name)}
-            for name, label in LABELS.items()
-        },
-        "disagreement": disagreement(
+    if not (drag or bristled):
+        from bristlecrawler.errors import InputError
+
+        raise InputError("--no-drag and --no-bristled leave no model to run")
+    test = prediction_drag_test(spec) if drag else None
+    if drag:
+        test.check(spec)  # the test's checks, before minutes of drag test
+        # Refused as `drag` refuses it, cached or not: an entry for it cannot be honest.
+        drag_estimate(sc, test).check()
+    results = {name: None for name in LABELS}
+    refused = {name: None for name in LABELS}
+    if bristled:
+        results[DEFAULT], refused[DEFAULT] = bristled_result(spec, cycles)
+    else:
+        refused[DEFAULT] = "not asked for (--no-bristled)"
+    assumed = {DEFAULT: bristled_assumptions(spec, cycles)}
+    out = {"scenario": sc.name, "cycles": cycles, "default": DEFAULT}
+    if drag:
+        summary, hit = cached_drag(sc, test, progress)
+        scatter = summary.along.scatter if summary.along else math.nan
+        refused["paper"] = paper_model_refusal(summary.fp, summary.fn, scatter)
+        models = predict_models(spec, summary, cycles, paper=refused["paper"] is None)
+        results.update({name: m.to_dict() for name, m in models.items()})
+        assumed.update(assumptions(summary, cycles, len(spec.bristles)))
+        law = summary.texture
+        out["disagreement"] = disagreement(
             results["texture"], results["paper"], law.pitch_mm, len(spec.bristles)
-        ),
-        "drag": {
+        )
+        out["drag"] = {
             "cached": hit,
             K_N_PER_MM: summary.k,
             FP_N: summary.fp,
             FN_N: summary.fn,
             "pitch_mm": law.pitch_mm,
             "lock_positions_mm": law.lock_positions_mm.tolist(),
-        },
+        }
+    else:
+        why = "no drag test asked for (--no-drag): this model needs one"
+        refused.update({name: why for name in LABELS if name != DEFAULT})
+        out["disagreement"] = None
+        out["drag"] = None
+    out.update(results)
+    out["models"] = {
+        name: {
+            "label": label,
+            "assumes": assumed.get(name),
+            "checked": CHECKED[name],
+            "not_run": refused.get(name),
+        }
+        for name, label in LABELS.items()
     }
+    return out
