@@ -44,7 +44,6 @@ def programs(ctx):
 
     from bristlecrawler import fe
     from bristlecrawler.fe import assembly, banded
-    from bristlecrawler.fe.dynamics import step_equations
 
     m, state = ctx.model, ctx.state
     topo, terms, params = m.topology, m.terms, m.params
@@ -52,7 +51,7 @@ def programs(ctx):
     dt = jnp.asarray(1e-3)
 
     def equations(state, params):
-        return step_equations(state, params, dt, topo, terms, ig)[1]
+        return ig.equations(state, None, params, dt, topo, terms)[1]
 
     @jax.jit
     def residual(state, params, q):
@@ -79,7 +78,7 @@ def programs(ctx):
         # The same step without the contact terms: what the tangent costs for the beams,
         # the inertia and the constraints alone.
         bare = dataclasses.replace(state, history=())
-        res = step_equations(bare, params, dt, topo, (), ig)[1]
+        res = ig.equations(bare, None, params, dt, topo, ())[1]
         return banded.extract(lambda q: res(q)[0], q, topo)
 
     step = fe.make_step(topo, terms, ig)

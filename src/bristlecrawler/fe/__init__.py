@@ -2,13 +2,15 @@
 
 Corotational beams with tapered sections, point masses, rigid bodies, springs, rigid links
 (with prescribed stretch: the actuated body), prescribed motions and dead loads; static
-Newton with load stepping, modal analysis, Newmark / HHT-alpha dynamics with adaptive steps.
+Newton with load stepping, modal analysis, HHT-alpha, Newmark and backward Euler dynamics
+with adaptive steps.
 Float64 throughout (:mod:`bristlecrawler._x64`). Units: mm, N, s, tonne (MPa, mJ).
 """
 
 from __future__ import annotations
 
 import bristlecrawler._x64  # noqa: F401  (float64 before any JAX code)
+from bristlecrawler.fe.backward_euler import BackwardEuler
 from bristlecrawler.fe.banded import BlockSystem
 from bristlecrawler.fe.cache import enable_compilation_cache
 from bristlecrawler.fe.control import StepControl
@@ -23,7 +25,6 @@ from bristlecrawler.fe.drivers import (
 from bristlecrawler.fe.dynamics import (
     DynResult,
     DynState,
-    Integrator,
     Rayleigh,
     energy,
     initial_state,
@@ -31,6 +32,8 @@ from bristlecrawler.fe.dynamics import (
     make_step,
     run_fixed,
 )
+from bristlecrawler.fe.hht import HHT
+from bristlecrawler.fe.integrator import Integrator
 from bristlecrawler.fe.modal import Modes, modes
 from bristlecrawler.fe.model import Model, Params, Topology
 from bristlecrawler.fe.motion import Constant, Piecewise, Ramp, Sin2, Sine, TimeFunction
@@ -47,6 +50,8 @@ from bristlecrawler.fe.structure import Structure, TaperedRect
 from bristlecrawler.fe.terms import Term
 
 __all__ = [
+    "HHT",
+    "BackwardEuler",
     "BlockSystem",
     "Constant",
     "DriverCarry",

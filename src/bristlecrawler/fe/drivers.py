@@ -27,7 +27,6 @@ from bristlecrawler.fe.dynamics import (
     Integrator,
     StepInfo,
     make_step,
-    start_force,
     step_result,
     step_solver,
 )
@@ -154,13 +153,12 @@ def _loop(step, observe, capacity: int, control: StepControl, check):
 
 class Pending(NamedTuple):
     """A design's attempted step inside the batched loop: Newton's iterate (``nc``), the
-    step size ``h`` (s), the force at the step's start and its scale (``r0``, ``s0``,
-    :func:`dynamics.start_force`), and ``fresh``: the next iteration starts a step."""
+    step size ``h`` (s), what the integrator's steps from the design's state share
+    (``start``, :meth:`Integrator.init`), and ``fresh``: the next iteration starts a step."""
 
     nc: Any
     h: Any
-    r0: Any
-    s0: Any
+    start: Any
     fresh: Any
 
 
@@ -214,8 +212,8 @@ def make_batch_driver(
     ig = Integrator.hht() if integrator is None else integrator
     start, cond, _, end = _loop(None, observe, capacity, control, check)
 
-    def solver(state, params, h, r0, s0):
-        return step_solver(state, params, h, topo, terms, ig, (r0, s0), parallel_trials)
+    def solver(state, params, h, start):
+        return step_solver(state, params, h, topo, terms, ig, start, parallel_trials)
 
     def iterate(c, pend, params, t_stop, dt_min, dt_max, checked):
         """One Newton iteration of one design: a step starts where ``pend.fresh``, and
@@ -223,22 +221,22 @@ def make_batch_driver(
         carry = c[0]
         state = carry.state
         h = jnp.where(pend.fresh, jnp.minimum(carry.dt, t_stop - state.t), pend.h)
-        r0, s0 = start_force(state, params, topo, terms)
-        r0 = jnp.where(pend.fresh, r0, pend.r0)
-        s0 = jnp.where(pend.fresh, s0, pend.s0)
-        kin, parts = solver(state, params, h, r0, s0)
+        # A pending step keeps the start it began with; the integrator's init is evaluated
+        # every iteration (under vmap a branch would run both sides anyway).
+        start = _tree_where(pend.fresh, ig.init(state, params, topo, terms), pend.start)
+        kin, parts = solver(state, params, h, start)
         nc = _tree_where(pend.fresh, parts.init, pend.nc)
         nc = _tree_where(parts.cond(nc), parts.body(nc), nc)
         ending = ~parts.cond(nc)
         new, info = step_result(state, params, h, kin, parts.result(nc), topo, terms, ig)
         done = end(c, new, info, h, params, t_stop, dt_min, dt_max, checked)
-        return _tree_where(ending, done, c), Pending(nc, h, r0, s0, ending)
+        return _tree_where(ending, done, c), Pending(nc, h, start, ending)
 
     def pending(carry, params):
         def one(state, p):
             zero = jnp.zeros((), state.t.dtype)
-            r0, s0 = start_force(state, p, topo, terms)
-            return Pending(solver(state, p, zero, r0, s0)[1].init, zero, r0, s0, True)
+            start = ig.init(state, p, topo, terms)
+            return Pending(solver(state, p, zero, start)[1].init, zero, start, True)
 
         shapes = jax.eval_shape(jax.vmap(one), carry.state, params)
         out = jax.tree.map(lambda x: np.zeros(x.shape, x.dtype), shapes)

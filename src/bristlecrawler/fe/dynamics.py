@@ -1,21 +1,12 @@
-"""Implicit dynamics: Newmark and HHT-alpha, Rayleigh damping, adaptive time steps.
+"""Implicit dynamics: the time step of any :class:`~.integrator.Integrator` (HHT-alpha and
+Newmark in :mod:`.hht`, backward Euler in :mod:`.backward_euler`), Rayleigh damping, the
+consistent initial state.
 
-HHT-alpha (Hilber, Hughes & Taylor 1977; Hughes, *The Finite Element Method*, 2000,
-Sec. 9.3.3), Abaqus sign convention alpha in [-1/3, 0] (default -0.05),
-beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha:
-
-    M a1 + (1 + alpha) r(u1, v1, t1) - alpha r(u0, v0, t0) = 0,
-    r = C v + f_int(u) + sum_k r_k(u, v, t, h_k) - f_ext(t),
-    u1 = u0 + dt v0 + dt^2 ((1/2 - beta) a0 + beta a1),  v1 = v0 + dt ((1 - gamma) a0 + gamma a1).
-
-alpha = 0 is Newmark (beta, gamma free; 1/4, 1/2 = trapezoidal rule, energy conserving for
-linear systems). Kinematics are integrated for the *full* nodal vectors and the constraints
-(supports, rigid links, the actuated body) are imposed at t1 through u1 = expand(q1, t1);
-the residual is projected by J^T = (d expand / dq)^T. This is the index-3 Lagrange-multiplier
-HHT with the multipliers eliminated by the null-space (Jacobian) basis.
-
-Rayleigh damping C v = a0 M v + a1 K_T(u) v, with K_T v a JVP of the internal force
-(left out of the programs of a topology built without stiffness damping,
+A step solves the integrator's equations (:meth:`Integrator.equations`) for the reduced
+unknowns with Newton (:mod:`.newton`), then commits the terms' histories and checks the
+converged state (rotation, penetration, broad-phase overflow, damping). Rayleigh damping
+C v = a0 M v + a1 K_T(u) v, with K_T v a JVP of the internal force (left out of the
+programs of a topology built without stiffness damping,
 :func:`assembly.internal_and_damping_force`).
 """
 
@@ -34,8 +25,8 @@ from bristlecrawler._pytree import pytree
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.fe import assembly, banded
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl, march
-from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions, newton_parts
-from bristlecrawler.fe.options import compose, renamed
+from bristlecrawler.fe.integrator import Integrator, force
+from bristlecrawler.fe.newton import newton_parts
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     PENETRATION,
@@ -65,92 +56,6 @@ class DynState:
     v: Any
     a: Any
     history: tuple
-
-
-@renamed(max_penetration="penetration_limit")
-@dataclasses.dataclass(frozen=True)
-class Integrator:
-    """Time integration scheme and the Newton settings of its steps (static: part of the
-    compiled step).
-
-    Use :meth:`hht` (default alpha = -0.05) or :meth:`newmark`; either takes the Newton
-    settings as ``newton=NewtonOptions(...)`` or as keywords of the same names
-    (``Integrator.hht(tolerance=1e-12, max_iterations=8)``). Their meanings are
-    :class:`NewtonOptions`'s; in a step, the convergence test's force scale F is the sum
-    of the inertial, internal, damping and external force norms (N), ``stall_iterations``
-    and a failed line search cut the step, and ``freeze_iterations`` counts the
-    predictor. ``max_correction`` does not cap the predictor; with
-    ``predictor="constant"`` it caps the first correction.
-
-    penetration_limit: a converged step whose committed contact state has a penetration
-    deeper than this (mm; terms that report one, see :mod:`terms`) is rejected with status
-    PENETRATION, so an adaptive driver cuts it (default: no limit).
-    max_rotation: largest nodal rotation change (rad) accepted in one step, as in statics:
-    rotations enter the energy only modulo 2 pi, so Newton can converge to a state with a
-    node turned by about 2 pi (a kick of spurious kinetic energy); such a step is rejected
-    with status ROTATION_LIMIT and cut.
-    predictor: "tangent" (default) starts Newton from q0 + dq with J dq = -(R + dR/dt dt),
-    the residual *linearised* in the step's change of the prescribed motions (supports,
-    link stretches); "constant" starts from the last converged q. See :func:`make_step`.
-    """
-
-    alpha: float = -0.05
-    beta: float = 0.25 * 1.05**2
-    gamma: float = 0.55
-    newton: NewtonOptions = DEFAULT_NEWTON
-    predictor: str = "tangent"
-    penetration_limit: float = math.inf
-    max_rotation: float = 1.0
-
-    def __init__(
-        self,
-        alpha=-0.05,
-        beta=0.25 * 1.05**2,
-        gamma=0.55,
-        newton=None,
-        *,
-        predictor="tangent",
-        penetration_limit=math.inf,
-        max_rotation=1.0,
-        **settings,
-    ):
-        newton = DEFAULT_NEWTON if newton is None else newton
-        newton = compose("Integrator", {"newton": newton}, settings)["newton"]
-        for name, value in (
-            ("alpha", alpha),
-            ("beta", beta),
-            ("gamma", gamma),
-            ("newton", newton),
-            ("predictor", predictor),
-            ("penetration_limit", penetration_limit),
-            ("max_rotation", max_rotation),
-        ):
-            object.__setattr__(self, name, value)
-        self.__post_init__()
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.newton, NewtonOptions):
-            raise InputError(f"newton must be a NewtonOptions, got {self.newton!r}")
-        if not self.max_rotation > 0.0:
-            raise InputError(f"max_rotation must be > 0 rad, got {self.max_rotation}")
-        if not self.penetration_limit > 0.0:
-            raise InputError(f"penetration_limit must be > 0 mm, got {self.penetration_limit}")
-        if self.predictor not in ("tangent", "constant"):
-            raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
-
-    @classmethod
-    def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
-        """HHT-alpha, alpha in [-1/3, 0]."""
-        if not (-1.0 / 3.0 <= alpha <= 0.0):
-            raise InputError(f"HHT alpha must be in [-1/3, 0], got {alpha}")
-        return cls(alpha, (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha, **kw)
-
-    @classmethod
-    def newmark(cls, beta: float = 0.25, gamma: float = 0.5, **kw) -> Integrator:
-        """Newmark; the default (1/4, 1/2) is the trapezoidal rule."""
-        if not (beta > 0.0 and gamma >= 0.5):
-            raise InputError(f"Newmark needs beta > 0 and gamma >= 1/2, got {beta}, {gamma}")
-        return cls(0.0, beta, gamma, **kw)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -186,72 +91,15 @@ class Rayleigh:
         return model.with_params(damping=jnp.asarray([self.a0, self.a1], jnp.float64))
 
 
-def _force(u, v, t, history, params, topo, terms, freeze=False, masses=None):
-    """r = C v + f_int + terms - f_ext (full) and its force scale (``freeze``: see
-    :func:`assembly.terms_residual`; ``masses``: :func:`assembly.element_masses`)."""
-    f_int, damp = assembly.internal_and_damping_force(u, v, params, topo, masses)
-    f_t = assembly.terms_residual(u, v, t, history, params, terms, freeze)
-    f_ext = assembly.external_force(t, 1.0, params, topo, masses)
-    scale = sum(jnp.linalg.norm(x) for x in (f_int, damp, f_t, f_ext))
-    return damp + f_int + f_t - f_ext, scale
-
-
-def _masses(params, topo):
-    return assembly.element_masses(params, topo) if topo.elems else None
-
-
-def start_force(state, params, topo, terms, masses=None):
-    """The force at ``state`` (the r of :func:`_force`) and its scale: the start of a time
-    step's HHT residual, the same for every iterate and every step size from it."""
-    if masses is None:
-        masses = _masses(params, topo)
-    return _force(state.u, state.v, state.t, state.history, params, topo, terms, masses=masses)
-
-
-def step_equations(state, params, dt, topo, terms, ig: Integrator, start=None):
-    """The equations of one time step of ``dt`` (s) from ``state``: ``kin(q, tc)``, the
-    full (u, v, a) at the end of the step for reduced unknowns ``q`` (prescribed motions
-    at time ``tc``, default the step's end), and ``residual(q, tc, freeze)``, the HHT
-    residual in the reduced unknowns and its force scale (see the module; ``freeze``:
-    :func:`assembly.terms_residual`). ``start``: :func:`start_force` of ``state`` where
-    known."""
-    al, be, ga = ig.alpha, ig.beta, ig.gamma
-    t1 = state.t + dt
-    u0, v0, a0 = state.u, state.v, state.a
-    # Element masses once per step, not once per residual (three products M x each).
-    Me = _masses(params, topo)
-    r0, s0 = start_force(state, params, topo, terms, Me) if start is None else start
-
-    def newmark(u):
-        a = (u - u0 - dt * v0) / (be * dt**2) - (0.5 / be - 1.0) * a0
-        v = v0 + dt * ((1.0 - ga) * a0 + ga * a)
-        return u, v, a
-
-    def kin(q, tc=t1):
-        # tc: time of the prescribed motions (supports, link stretches) in expand
-        return newmark(assembly.expand(q, tc, 1.0, params, topo))
-
-    def residual(q, tc=t1, freeze=False):
-        # One expansion gives u and, transposed, the projection of the full residual.
-        u, pull = jax.vjp(lambda q: assembly.expand(q, tc, 1.0, params, topo), q)
-        u, v, a = newmark(u)
-        r1, s1 = _force(u, v, t1, state.history, params, topo, terms, freeze, Me)
-        Ma = assembly.mass_times(a, params, topo, Me)
-        full = Ma + (1.0 + al) * r1 - al * r0
-        (R,) = pull(full)
-        return R, jnp.linalg.norm(Ma) + s1 + jnp.abs(al) * s0
-
-    return kin, residual
-
-
 def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None, parallel=False):
     """One time step of ``dt`` (s) from ``state`` as the parts of its Newton loop:
-    ``(kin, parts)``, ``kin`` as in :func:`step_equations` and ``parts`` a
-    :class:`newton.NewtonParts`. ``start``: :func:`start_force` of ``state`` where known.
+    ``(kin, parts)``, ``kin`` as in :meth:`Integrator.equations` and ``parts`` a
+    :class:`newton.NewtonParts`. ``start``: the integrator's :meth:`~Integrator.init` of
+    ``state`` where known.
     :func:`make_step` runs the parts in a loop of their own, a batch's driver one
     iteration per design at a time. ``parallel``: Newton's line search makes its trials
     at once (:func:`newton.newton_parts`), as a batch off the CPU does."""
-    kin, residual = step_equations(state, params, dt, topo, terms, ig, start)
+    kin, residual = ig.equations(state, start, params, dt, topo, terms)
     if ig.predictor == "tangent":
         # Euler (tangent) predictor. From the last q, the prescribed motion of the step
         # distorts the stiffest elements next to a moving support (a bristle root carried
@@ -340,7 +188,7 @@ def _initial_acceleration_fn(topo, terms):
             return assembly.expand(q, t, 1.0, params, topo)
 
         u = expand(q)
-        r, _ = _force(u, jnp.zeros_like(u), t, history, params, topo, terms)
+        r, _ = force(u, jnp.zeros_like(u), t, history, params, topo, terms)
         if not topo.n_red:
             return u, jnp.zeros_like(u)
         _, pull = jax.vjp(expand, q)

@@ -1,0 +1,112 @@
+"""The integrator seam: a scheme is an object with ``init`` and ``equations``, and every
+stepper runs any scheme. Backward Euler, the second scheme, is checked against its own
+recurrence and its order on the unit oscillator x'' + x = 0."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from bristlecrawler import fe
+from bristlecrawler.errors import InputError
+from bristlecrawler.verification.cases import oscillator
+
+X0 = 1e-2  # mm: the spring stays linear (|x| << its rest length)
+
+
+def _x(state) -> float:
+    return float(state.u[1, 0])
+
+
+def _run(m, ig, dt: float, n: int) -> np.ndarray:
+    step = fe.make_step(m.topology, m.terms, ig)
+    s = fe.initial_state(m, q=jnp.asarray([X0]))
+    xs = [_x(s)]
+    for _ in range(n):
+        s, info = step(s, m.params, jnp.asarray(dt))
+        assert int(info.status) == 0
+        xs.append(_x(s))
+    return np.asarray(xs)
+
+
+def test_backward_euler_follows_its_recurrence_and_damps_as_it_should():
+    """(1 + Omega^2) x_{n+1} = 2 x_n - x_{n-1} with x_{-1} = x_0 - dt v_0: the scheme's
+    discrete solution, whose roots have modulus 1 / sqrt(1 + Omega^2) (L-stable)."""
+    m = oscillator()
+    ig = fe.Integrator.backward_euler(tolerance=1e-13)
+    for dt in (0.3, 2.0):
+        xs = _run(m, ig, dt, 30)
+        ref = [X0, X0]  # x_{-1}, x_0 (at rest)
+        for _ in range(30):
+            ref.append((2.0 * ref[-1] - ref[-2]) / (1.0 + dt**2))
+        np.testing.assert_allclose(xs, ref[1:], rtol=1e-9, atol=1e-15)
+        # the amplitude decays by the roots' modulus per step
+        rho = 1.0 / np.sqrt(1.0 + dt**2)
+        assert abs(xs[-1]) <= 2.0 * X0 * rho**30
+
+
+def test_backward_euler_is_first_order_and_hht_second():
+    """Error at t = 2 s against x0 cos t, halving dt: orders 1 and 2."""
+    m = oscillator()
+    schemes = {
+        1.0: fe.Integrator.backward_euler(tolerance=1e-13),
+        2.0: fe.Integrator.hht(-0.05, tolerance=1e-13),
+    }
+    for order, ig in schemes.items():
+        errs = []
+        for n in (20, 40, 80):
+            xs = _run(m, ig, 2.0 / n, n)
+            errs.append(abs(xs[-1] - X0 * np.cos(2.0)))
+        observed = np.log2(np.asarray(errs[:-1]) / np.asarray(errs[1:]))
+        np.testing.assert_allclose(observed, order, atol=0.1)
+
+
+def _tip(state, params):
+    return {"x": state.u[1, 0], "t": state.t}
+
+
+@pytest.mark.parametrize("kind", ["host", "compiled", "batch"])
+def test_every_stepper_runs_a_scheme_without_a_start(kind):
+    """Backward Euler's ``init`` is empty: the adaptive drivers and the batched loop (which
+    keeps each design's start while its step is pending) take it as they take HHT, and
+    give the steps of ``fe.integrate``."""
+    m = oscillator()
+    ig = fe.Integrator.backward_euler(tolerance=1e-12)
+    s0 = fe.initial_state(m, q=jnp.asarray([X0]))
+    ref = fe.integrate(m, s0, 3.0, 0.25, integrator=ig, observe=_x)
+    args = (m.topology, m.terms, ig, _tip, 64)
+    if kind == "batch":
+        driver = fe.make_batch_driver(*args)
+        params = fe.stack([m.params, m.params])
+        carry = fe.stack([fe.driver_start(s0, 0.25)] * 2)
+        pending = driver.pending(carry, params)
+        v = jnp.asarray
+        out = driver.run(
+            carry, pending, params, v([3.0, 3.0]), v([3.0, 3.0]), v([3.0, 3.0]),
+            v([2.5e-5] * 2), v([0.25] * 2), v([True, True]),
+        )  # fmt: skip
+        buf, k = jax.tree.map(lambda b: np.asarray(b[0]), out[2]), int(out[3][0])
+        assert int(out[3][1]) == k
+    else:
+        make = fe.make_host_driver if kind == "host" else fe.make_driver
+        run = make(*args)
+        _, buf, k, failed = run(fe.driver_start(s0, 0.25), m.params, 3.0, 2.5e-5, 0.25)
+        assert not bool(failed)
+    assert k == len(ref.times)
+    np.testing.assert_allclose(np.asarray(buf["t"])[:k], ref.times, rtol=1e-12)
+    np.testing.assert_allclose(np.asarray(buf["x"])[:k], ref.observed, rtol=1e-9, atol=1e-15)
+
+
+def test_a_scheme_is_an_object_with_its_settings():
+    """The schemes are values (hashable, equal by settings), the base class is abstract,
+    and the shared settings are checked whatever the scheme."""
+    assert fe.Integrator.backward_euler(tolerance=1e-10) == fe.Integrator.backward_euler(
+        tolerance=1e-10
+    )
+    assert fe.Integrator.backward_euler() != fe.Integrator.newmark()
+    assert hash(fe.Integrator.hht()) == hash(fe.Integrator.hht())
+    assert isinstance(fe.Integrator.hht(), fe.HHT)
+    with pytest.raises(TypeError):
+        fe.Integrator()
+    with pytest.raises(InputError, match="max_rotation"):
+        fe.Integrator.backward_euler(max_rotation=0.0)
