@@ -8,8 +8,8 @@ contact the tip is pressed and slides. Variants: no contact term (the same beam 
 its tip free), one contact point at the tip, one at every node but the clamp (most of them
 open; "all" computes their projection all the same, "all-broad" only for the ``ACTIVE``
 lowest points, see ``SubstrateContact.active``). HHT alpha = -0.2, steps of 0.2 ms at
-most, adaptive (halved when Newton fails, as :func:`fe.integrate`) in the compiled driver
-:func:`fe.make_driver` (no host round trip per step). Reported after compilation (the
+most, adaptive (halved when Newton fails) in the compiled loop of :class:`fe.Stepper` (no
+host round trip per step). Reported after compilation (the
 variants timed in turn, ten rounds, the fastest round of each): time per accepted step and
 per Newton iteration (rejected steps' iterations included), and the overhead over the
 variant without contact.
@@ -74,10 +74,11 @@ def _time(state, params):
 def prepared(n: int, contact: str):
     """Compiled run of one variant: ``go() -> (carry, failed)`` and its compile time (s)."""
     model, s0 = bristle(n, contact)
-    run = fe.make_driver(model.topology, model.terms, BEAM_HHT, _time, 4096)
+    save = fe.SaveAt(_time, 4096)
+    stepper = fe.Stepper.of(model, integrator=BEAM_HHT, save=save, loop="compiled")
 
     def go():
-        carry, _, _, failed = run(fe.driver_start(s0, DT), model.params, T_END, DT * 1e-4, DT)
+        carry, _, _, failed = stepper.run(stepper.start(s0, DT), model.params, T_END, DT * 1e-4, DT)
         return jax.block_until_ready(carry), bool(failed)
 
     t0 = time.perf_counter()

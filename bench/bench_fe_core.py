@@ -7,7 +7,7 @@ length 100 - s(t), s = 20 sin^2(pi t / 20) mm, which drags the right bristle alo
 
 * Statics: equilibrium under gravity at t = 0, the library's compiled Newton solver
   (``make_static_solver``, as ``solve_static`` calls it) from q = 0 to |R| <= 1e-10 F.
-* Dynamics: HHT alpha = -0.05, fixed dt = 1 ms, from that equilibrium, ``run_fixed``
+* Dynamics: HHT alpha = -0.05, fixed dt = 1 ms, from that equilibrium, ``Stepper.fixed``
   (one compiled ``lax.scan``): a 200-step chunk per size, then 10^4 steps for the largest.
 * The 1e-10 solve of the largest mesh is then continued with no stopping test, to show the
   round-off floor of |R|/F next to its estimate eps |K| |q| / F.
@@ -35,10 +35,10 @@ import numpy as np
 
 from bristlecrawler.fe import (
     Integrator,
+    Stepper,
     banded,
     enable_compilation_cache,
     initial_state,
-    run_fixed,
 )
 from bristlecrawler.fe.newton import NewtonOptions
 from bristlecrawler.fe.static import make_static_solver, static_residual
@@ -102,7 +102,7 @@ def dynamic_case(m, q_eq, n_steps: int, repeat: int) -> dict:
     s0 = initial_state(m, q=q_eq)
 
     def run(state, params):
-        return run_fixed(m, state, params, DT, n_steps, HHT)
+        return Stepper.of(m, integrator=HHT).fixed(state, params, DT, n_steps)
 
     compile_s, compiled = compile_timed(run, s0, m.params)
     wall, (final, infos) = best_of(lambda: compiled(s0, m.params), repeat)

@@ -3,7 +3,7 @@ launches or by arithmetic?).
 
 B copies of the ``paper`` design (so every design takes the same iterations: utilisation 1)
 fall under gravity from the reference state for ``--span`` s with the batched driver
-(:func:`fe.make_batch_driver`, the program of :func:`crawler.run_batch`). For each width:
+(the batch loop of :class:`fe.Stepper`, the program of :func:`crawler.run_batch`). For each width:
 the compilation, then the run's wall time over its batched Newton iterations. If the
 time per iteration hardly grows with B, the program is bound by its launches and wider
 batches run more designs per minute; if it grows as B, by arithmetic.
@@ -45,22 +45,22 @@ def main() -> None:
     ctx.damping = fe.Rayleigh.from_ratio(0.15, ctx.options.settle_omega, "mass")
     ctx.model = ctx.damping.apply(ctx.crawler.model)
     state = fe.initial_state(ctx.model)
-    driver = fe.make_batch_driver(*ctx.driver_args(True), ctx.parallel_trials)
+    stepper = ctx.stepper(True, "batch")
     print(f"{device.device_kind}; JAX {jax.__version__}; paper, gravity step of {a.span} s")
     head = f"{'B':>6} {'compile s':>10} {'run s':>8} {'iterations':>11} {'ms/it':>8}"
     head += f" {'us/design-it':>13}"
     print(head + "\n" + "-" * len(head), flush=True)
     for width in a.widths:
         t0 = time.perf_counter()
-        one = fe.driver_start(state, ctx.options.dt0)
-        carry, params = tile(one, width), tile(ctx.model.params, width)
+        params = tile(ctx.model.params, width)
+        carry, pending = stepper.start([state] * width, [ctx.options.dt0] * width, params)
         vec = np.full(width, 1.0)
-        args = (carry, driver.pending(carry, params), params, a.span * vec, a.span * vec)
+        args = (carry, pending, params, a.span * vec, a.span * vec)
         args += (a.span * vec,)
         args += (spec.solver.dt_min * vec, min(spec.solver.dt_max, 0.01) * vec)
         args += (np.zeros(width, bool),)
         args = jax.tree.map(lambda x: jax.device_put(np.ascontiguousarray(x)), args)
-        program = driver.run.lower(*args).compile()
+        program = stepper.program.lower(*args).compile()
         compile_s = time.perf_counter() - t0
         t0, its = time.perf_counter(), 0
         c, pend = args[:2]

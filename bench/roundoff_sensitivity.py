@@ -2,7 +2,7 @@
 changed by one unit in the last place (ulp).
 
 Runs the ``paper`` scenario (two cycles by default) with the host loop, with the compiled
-loop (:func:`fe.make_driver`, the program a batch vmaps), and with the inclination and the
+loop (of :class:`fe.Stepper`, the program a batch vmaps), and with the inclination and the
 friction coefficient moved by one ulp (1e-16 relative). Prints each run's net advance,
 its difference from the first and its accepted steps. A batched design's difference from
 its single run (``bench/bench_batch.py``) is to be read against these: a batch computes

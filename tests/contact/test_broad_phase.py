@@ -181,11 +181,11 @@ def _strip(active, press):
 
 
 def _pressed_strip(active, press):
-    """:func:`_strip`, HHT run for 10 ms by :func:`fe.integrate`."""
+    """:func:`_strip`, HHT run for 10 ms by :func:`fe.solve`."""
     from bristlecrawler import fe
 
     model, state = _strip(active, press)
-    return fe.integrate(model, state, 0.01, 5e-4, integrator=STRIP_HHT, throw=False)
+    return fe.solve(model, state, 0.01, 5e-4, integrator=STRIP_HHT, throw=False)
 
 
 @pytest.mark.slow
@@ -217,9 +217,8 @@ def test_the_adaptive_drivers_stop_at_once_on_a_contact_overflow(driver):
     from bristlecrawler.fe.status import CONTACT_OVERFLOW
 
     model, state = _strip(1, 0.02)
-    make = fe.make_host_driver if driver == "host" else fe.make_driver
-    run = make(model.topology, model.terms, STRIP_HHT, _time, 64)
-    carry, _, n, failed = run(fe.driver_start(state, 5e-4), model.params, 0.01, 5e-8, 5e-4)
+    stepper = fe.Stepper.of(model, integrator=STRIP_HHT, save=fe.SaveAt(_time, 64), loop=driver)
+    carry, _, n, failed = stepper.run(stepper.start(state, 5e-4), model.params, 0.01, 5e-8, 5e-4)
     assert bool(failed)
     assert int(carry.cause) == CONTACT_OVERFLOW == int(carry.info.status)
     assert int(carry.rejected) == 1  # not cut down to dt_min

@@ -41,7 +41,7 @@ def _pressed_mass():
 def test_steps_below_the_limit_are_accepted(limit):
     m, s0 = _pressed_mass()
     ig = fe.Integrator.hht(penetration_limit=limit)
-    res = fe.integrate(m, s0, 0.05, 1e-3, integrator=ig)
+    res = fe.solve(m, s0, 0.05, 1e-3, integrator=ig)
     depth = -float(res.state.u[0, 1])
     assert res.ok and depth == pytest.approx(F / K_N, rel=0.05)
     hist = res.state.history[0]
@@ -62,7 +62,7 @@ def test_a_step_deeper_than_the_limit_is_rejected():
     assert int(info.status) == PENETRATION
     assert -float(state.u[0, 1]) <= 1e-3  # the last accepted state is within the limit
     with pytest.raises(SolverError, match="penetration"):
-        fe.integrate(m, s0, 0.05, 1e-3, integrator=ig)
+        fe.solve(m, s0, 0.05, 1e-3, integrator=ig)
 
 
 def test_limit_must_be_positive():

@@ -13,11 +13,11 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from bristlecrawler import fe
 from bristlecrawler.fe import (
     Integrator,
     banded,
     initial_state,
-    integrate,
     solve_static,
 )
 from bristlecrawler.fe.static import static_residual
@@ -153,14 +153,14 @@ def test_hht_follows_actuated_length(model, equilibrium):
     s0 = initial_state(m, q=st.q, history=st.history)
     L, R = nodes["left"], nodes["right"]
 
-    def body_length(s):
-        x = m.params.X + s.u[:, :2]
-        return float(jnp.linalg.norm(x[R] - x[L]))
+    def body_length(s, params):
+        x = params.X + s.u[:, :2]
+        return {"t": s.t, "length": jnp.linalg.norm(x[R] - x[L])}
 
-    out = integrate(m, s0, 1.0, 0.05, integrator=Integrator.hht(), observe=body_length)
+    out = fe.solve(m, s0, 1.0, 0.05, integrator=Integrator.hht(), save=fe.SaveAt(body_length))
     assert out.ok
     expected = 100.0 - 20.0 * np.sin(np.pi * out.times / 20.0) ** 2
-    assert np.allclose(out.observed, expected, rtol=1e-12)
+    assert np.allclose(out.records["length"], expected, rtol=1e-12)
 
 
 def test_an_extra_term_must_subclass_term():

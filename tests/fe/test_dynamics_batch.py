@@ -11,18 +11,20 @@ from bristlecrawler.errors import SolverError
 from bristlecrawler.fe import (
     Integrator,
     Rayleigh,
+    SaveAt,
     StaticOptions,
+    Stepper,
     energy,
     initial_state,
     make_step,
     message,
-    run_fixed,
+    solve,
     solve_static,
 )
 from bristlecrawler.verification.cases import N_ELEM, cantilever
 
 # Same mesh and scheme as the verification's energy case: the compiled programs are shared
-# (its static solver, and its 100-step ``run_fixed`` scan: keep CHUNK and pass dt as a
+# (its static solver, and its 100-step ``Stepper.fixed`` scan: keep CHUNK and pass dt as a
 # Python float, since a numpy/strong-typed dt is another signature and another compile).
 SCHEME = Integrator.newmark(0.25, 0.5, tolerance=1e-12)
 CHUNK = 100
@@ -47,7 +49,7 @@ def _released(m, scale=1e-3):
 @pytest.mark.slow
 def test_vmap_step_matches_individual_runs(model):
     """The jitted step vmapped over three designs (Young's moduli) takes the same CHUNK
-    steps as each design run alone (the compiled ``run_fixed`` scan of that step)."""
+    steps as each design run alone (the compiled ``Stepper.fixed`` scan of that step)."""
     step = make_step(model.topology, model.terms, SCHEME)
     Es = np.array([0.8, 1.0, 1.3])
     designs = [model.with_params(sec=model.params.sec.at[:, 0].set(E)) for E in Es]
@@ -55,7 +57,7 @@ def test_vmap_step_matches_individual_runs(model):
     dt = 5.0
     singles = []
     for d, s in zip(designs, states, strict=True):
-        s, infos = run_fixed(d, s, d.params, dt, CHUNK, SCHEME)
+        s, infos = Stepper.of(d, integrator=SCHEME).fixed(s, d.params, dt, CHUNK)
         assert np.all(np.asarray(infos.status) == 0)
         singles.append(np.asarray(s.u))
     stack = jax.tree.map(lambda *x: jnp.stack(x), *[d.params for d in designs])
@@ -75,9 +77,9 @@ def test_mass_damping_dissipates_and_undamped_conserves(model):
     dt = float(T1 / 20)
     ig = SCHEME
     E0 = energy(s0, model)["total"]
-    free, _ = run_fixed(model, s0, model.params, dt, CHUNK, ig)
+    free, _ = Stepper.of(model, integrator=ig).fixed(s0, model.params, dt, CHUNK)
     damped_model = Rayleigh.from_ratio(0.05, 2 * np.pi / T1).apply(model)
-    damped, _ = run_fixed(damped_model, s0, damped_model.params, dt, CHUNK, ig)
+    damped, _ = Stepper.of(damped_model, integrator=ig).fixed(s0, damped_model.params, dt, CHUNK)
     assert abs(energy(free, model)["total"] - E0) < 1e-6 * E0
     # Mass-proportional damping, 5 % of critical: energy ~ exp(-2 zeta w t) = e^-3.1 after
     # 5 periods (bound e^-2.5 leaves room for the higher modes' smaller modal damping).
@@ -96,7 +98,9 @@ def test_stiffness_damping_takes_its_modal_ratio(model):
     T1 = 2 * np.pi / w1
     dt = float(T1 / 20)
     damped_model = Rayleigh.from_ratio(0.05, w1, kind="stiffness").apply(model)
-    damped, infos = run_fixed(damped_model, s0, damped_model.params, dt, CHUNK, SCHEME)
+    damped, infos = Stepper.of(damped_model, integrator=SCHEME).fixed(
+        s0, damped_model.params, dt, CHUNK
+    )
     assert np.all(np.asarray(infos.status) == 0)
     E0 = energy(s0, model)["total"]
     ratio = energy(damped, model)["total"] / E0
@@ -112,7 +116,6 @@ def test_mass_damping_only_topology_same_steps_and_refuses_a1(model):
     that meets a1 != 0 anyway fails with a fatal status: the driver stops at the first
     attempt instead of cutting dt down to dt_min."""
     from bristlecrawler.errors import InputError
-    from bristlecrawler.fe import integrate
     from bristlecrawler.fe.status import UNSUPPORTED_DAMPING
 
     w1 = W1
@@ -121,8 +124,8 @@ def test_mass_damping_only_topology_same_steps_and_refuses_a1(model):
     lean_topo = dataclasses.replace(model.topology, stiffness_damping=False)
     lean = dataclasses.replace(full, topology=lean_topo)
     s0 = _released(model)
-    ref, _ = run_fixed(full, s0, full.params, dt, CHUNK, SCHEME)
-    got, infos = run_fixed(lean, s0, lean.params, dt, CHUNK, SCHEME)
+    ref, _ = Stepper.of(full, integrator=SCHEME).fixed(s0, full.params, dt, CHUNK)
+    got, infos = Stepper.of(lean, integrator=SCHEME).fixed(s0, lean.params, dt, CHUNK)
     assert np.all(np.asarray(infos.status) == 0)
     assert energy(got, model)["total"] < 0.5 * energy(s0, model)["total"]  # damped
     assert np.allclose(np.asarray(got.u), np.asarray(ref.u), rtol=1e-10, atol=1e-14)
@@ -134,9 +137,9 @@ def test_mass_damping_only_topology_same_steps_and_refuses_a1(model):
     sneaky = dataclasses.replace(
         lean, params=dataclasses.replace(lean.params, damping=jnp.asarray([0.0, 1e-3]))
     )
-    res = integrate(sneaky, s0, 10 * dt, dt, integrator=SCHEME, throw=False)
-    assert not res.ok and res.rejected == 1 and len(res.times) == 0
-    assert int(res.infos[-1].status) == UNSUPPORTED_DAMPING
+    res = solve(sneaky, s0, 10 * dt, dt, integrator=SCHEME, throw=False)
+    assert not res.ok and res.rejected == 1 and res.steps == 0 and res.records is None
+    assert res.status == res.cause == UNSUPPORTED_DAMPING
     assert "stiffness-proportional damping" in res.message
     for host in (False, True):  # the compiled and the host-loop driver stop at once too
         carry, rows, failed = _drive(sneaky, s0, 10 * dt, dt, SCHEME, 8, dt * 1e-4, host)
@@ -164,7 +167,7 @@ def test_failure_is_a_status_and_throw_raises(model):
     s0 = _released(model)
     bad = model.with_params(sec=model.params.sec.at[3, 0].set(jnp.nan))  # E = NaN
     # Through the shared compiled scan: every step fails and leaves the state untouched.
-    s1, infos = run_fixed(bad, s0, bad.params, 1.0, CHUNK, SCHEME)
+    s1, infos = Stepper.of(bad, integrator=SCHEME).fixed(s0, bad.params, 1.0, CHUNK)
     assert np.all(np.asarray(infos.status) != 0)
     assert np.array_equal(np.asarray(s1.u), np.asarray(s0.u))  # state untouched
     info = jax.tree.map(lambda x: x[0], infos)
@@ -183,14 +186,12 @@ def _observe_tip(st, params):
 
 
 def _drive(model, state, t_end, dt, scheme, capacity, dt_min, host=False):
-    """Run the compiled (or host-loop) driver to t_end in chunks of ``capacity`` steps."""
-    from bristlecrawler.fe import driver_start, make_driver, make_host_driver
-
-    make = make_host_driver if host else make_driver
-    run = make(model.topology, model.terms, scheme, _observe_tip, capacity)
-    carry, rows, failed = driver_start(state, dt), [], False
+    """Run the compiled (or host-loop) stepper to t_end in chunks of ``capacity`` steps."""
+    loop = "host" if host else "compiled"
+    stepper = Stepper.of(model, integrator=scheme, save=SaveAt(_observe_tip, capacity), loop=loop)
+    carry, rows, failed = stepper.start(state, dt), [], False
     while float(carry.state.t) < t_end - 1e-12 and not failed:
-        carry, buf, k, failed = run(carry, model.params, t_end, dt_min, dt)
+        carry, buf, k, failed = stepper.run(carry, model.params, t_end, dt_min, dt)
         if int(k):
             rows.append(jax.tree.map(lambda b, k=int(k): np.asarray(b[:k]), buf))
         failed = bool(failed)
@@ -204,24 +205,15 @@ def _drive(model, state, t_end, dt, scheme, capacity, dt_min, host=False):
 def test_compiled_driver_takes_the_steps_of_the_python_driver(model, host):
     """Same step rules (cut on failure, grow after easy steps): same accepted times and
     states, whatever the chunking of the loop, compiled or on the host."""
-    from bristlecrawler.fe import integrate
-
     m = Rayleigh(0.5, 0.0).apply(model)
     s0 = _released(m, 5.0)  # large preload: Newton needs more iterations early on
     scheme = Integrator.hht(tolerance=1e-12, max_iterations=3)
-    ref = integrate(
-        m,
-        s0,
-        40.0,
-        4.0,
-        integrator=scheme,
-        observe=lambda st: np.asarray(st.u[-1, :2]),
-    )
+    ref = solve(m, s0, 40.0, 4.0, integrator=scheme, save=SaveAt(_observe_tip))
     carry, rec, failed = _drive(m, s0, 40.0, 4.0, scheme, capacity=7, dt_min=4e-4, host=host)
     assert not failed and ref.ok
     assert ref.rejected == int(carry.rejected) and ref.rejected > 0
     np.testing.assert_allclose(rec["t"], ref.times, rtol=1e-13)
-    np.testing.assert_allclose(rec["tip"], np.stack(ref.observed), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(rec["tip"], ref.records["tip"], rtol=1e-9, atol=1e-12)
 
 
 @pytest.mark.slow
@@ -257,7 +249,7 @@ def test_driver_check_bounds_every_accepted_step(model, host):
     """A step the check refuses is cut (status STEP_ERROR) and retried: every accepted step
     satisfies the bound, the steps are smaller than without the check, and the compiled
     and host loops take the same steps."""
-    from bristlecrawler.fe import StepControl, driver_start, make_driver, make_host_driver
+    from bristlecrawler.fe import StepControl
     from bristlecrawler.fe.status import STEP_ERROR
 
     m = model
@@ -266,10 +258,10 @@ def test_driver_check_bounds_every_accepted_step(model, host):
     tol = 0.2 * float(jnp.linalg.norm(s0.u[-1, :2]))
     runs = {}
     for use_host in (host, not host):
-        make = make_host_driver if use_host else make_driver
-        run = make(m.topology, m.terms, scheme, _observe_tip, 64, StepControl(), _TipStepCheck(tol))
-        carry = driver_start(s0, 40.0)
-        carry, buf, k, failed = run(carry, m.params, 400.0, 1e-6, 40.0)
+        save, check = SaveAt(_observe_tip, 64), _TipStepCheck(tol)
+        loop = "host" if use_host else "compiled"
+        stepper = Stepper.of(m, integrator=scheme, save=save, check=check, loop=loop)
+        carry, buf, k, failed = stepper.run(stepper.start(s0, 40.0), m.params, 400.0, 1e-6, 40.0)
         assert not bool(failed)
         runs[use_host] = (carry, jax.tree.map(lambda b, k=int(k): np.asarray(b[:k]), buf))
     carry, rec = runs[host]
@@ -278,9 +270,11 @@ def test_driver_check_bounds_every_accepted_step(model, host):
     assert np.all(moves <= tol * (1 + 1e-12))
     assert int(carry.rejected) > 0 and int(carry.cause) in (0, STEP_ERROR)
     # Without the check the same driver takes fewer, longer steps that break the bound.
-    make = make_host_driver if host else make_driver
-    free = make(m.topology, m.terms, scheme, _observe_tip, 64, StepControl())
-    _, b2, k2, _ = free(driver_start(s0, 40.0), m.params, 400.0, 1e-6, 40.0)
+    loop = "host" if host else "compiled"
+    free = Stepper.of(
+        m, integrator=scheme, save=SaveAt(_observe_tip, 64), control=StepControl(), loop=loop
+    )
+    _, b2, k2, _ = free.run(free.start(s0, 40.0), m.params, 400.0, 1e-6, 40.0)
     tips2 = np.concatenate([np.asarray(s0.u[-1:, :2]), np.asarray(b2["tip"][: int(k2)])])
     assert int(k2) < len(rec["t"])
     assert np.max(np.linalg.norm(np.diff(tips2, axis=0), axis=1)) > tol

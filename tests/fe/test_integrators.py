@@ -62,39 +62,34 @@ def test_backward_euler_is_first_order_and_hht_second():
 
 
 def _tip(state, params):
+    """The mass's position (mm) and the time (s) of each accepted step."""
     return {"x": state.u[1, 0], "t": state.t}
 
 
-@pytest.mark.parametrize("kind", ["host", "compiled", "batch"])
-def test_every_stepper_runs_a_scheme_without_a_start(kind):
-    """Backward Euler's ``init`` is empty: the adaptive drivers and the batched loop (which
-    keeps each design's start while its step is pending) take it as they take HHT, and
-    give the steps of ``fe.integrate``."""
+@pytest.mark.parametrize("loop", ["host", "compiled", "batch"])
+def test_every_loop_runs_a_scheme_without_a_start(loop):
+    """Backward Euler's ``init`` is empty: each loop of the stepper, the batched one too
+    (which keeps each design's start while its step is pending), takes it as it takes
+    HHT, and the steps of a whole host run (:func:`fe.solve`)."""
     m = oscillator()
     ig = fe.Integrator.backward_euler(tolerance=1e-12)
     s0 = fe.initial_state(m, q=jnp.asarray([X0]))
-    ref = fe.integrate(m, s0, 3.0, 0.25, integrator=ig, observe=_x)
-    args = (m.topology, m.terms, ig, _tip, 64)
-    if kind == "batch":
-        driver = fe.make_batch_driver(*args)
+    save = fe.SaveAt(_tip, 64)
+    ref = fe.solve(m, s0, 3.0, 0.25, integrator=ig, save=save)
+    stepper = fe.Stepper.of(m, integrator=ig, save=save, loop=loop)
+    if loop == "batch":
         params = fe.stack([m.params, m.params])
-        carry = fe.stack([fe.driver_start(s0, 0.25)] * 2)
-        pending = driver.pending(carry, params)
+        carry = stepper.start([s0, s0], [0.25, 0.25], params)
         v = jnp.asarray
-        out = driver.run(
-            carry, pending, params, v([3.0, 3.0]), v([3.0, 3.0]), v([3.0, 3.0]),
-            v([2.5e-5] * 2), v([0.25] * 2), v([True, True]),
-        )  # fmt: skip
-        buf, k = jax.tree.map(lambda b: np.asarray(b[0]), out[2]), int(out[3][0])
-        assert int(out[3][1]) == k
+        out = stepper.run(carry, params, v([3.0, 3.0]), v([2.5e-5] * 2), v([0.25] * 2))
+        buf, k = jax.tree.map(lambda b: np.asarray(b[1]), out.records), int(out.n[1])
+        assert int(out.n[0]) == k and not np.any(out.failed)
     else:
-        make = fe.make_host_driver if kind == "host" else fe.make_driver
-        run = make(*args)
-        _, buf, k, failed = run(fe.driver_start(s0, 0.25), m.params, 3.0, 2.5e-5, 0.25)
+        _, buf, k, failed = stepper.run(stepper.start(s0, 0.25), m.params, 3.0, 2.5e-5, 0.25)
         assert not bool(failed)
-    assert k == len(ref.times)
-    np.testing.assert_allclose(np.asarray(buf["t"])[:k], ref.times, rtol=1e-12)
-    np.testing.assert_allclose(np.asarray(buf["x"])[:k], ref.observed, rtol=1e-9, atol=1e-15)
+    assert ref.ok and k == ref.steps > 0
+    np.testing.assert_allclose(buf["t"][:k], ref.times, rtol=1e-12)
+    np.testing.assert_allclose(buf["x"][:k], ref.records["x"], rtol=1e-9, atol=1e-15)
 
 
 def test_a_scheme_is_an_object_with_its_settings():

@@ -15,7 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from bristlecrawler.fe import Integrator, Structure, initial_state, run_fixed, solve_static
+from bristlecrawler.fe import Integrator, Stepper, Structure, initial_state, solve_static
 from bristlecrawler.fe.motion import SmoothRamp
 from bristlecrawler.verification.structures import PAPER_BRISTLE
 
@@ -48,7 +48,7 @@ def carried():
 def _run(carried, predictor):
     m, _chain, s0 = carried
     ig = Integrator.hht(predictor=predictor, max_iterations=8)
-    return run_fixed(m, s0, m.params, DT, STEPS, ig)
+    return Stepper.of(m, integrator=ig).fixed(s0, m.params, DT, STEPS)
 
 
 @pytest.mark.slow
@@ -96,7 +96,8 @@ def test_free_oscillation_is_unchanged_by_the_predictor():
     s0 = initial_state(m, q=solve_static(pre, check_support=False).state.q)
     out = []
     for pred in ("tangent", "constant"):
-        fin, infos = run_fixed(m, s0, m.params, 5.0, 20, Integrator.hht(predictor=pred))
+        stepper = Stepper.of(m, integrator=Integrator.hht(predictor=pred))
+        fin, infos = stepper.fixed(s0, m.params, 5.0, 20)
         assert np.all(np.asarray(infos.status) == 0)
         out.append(np.asarray(fin.u))
     np.testing.assert_allclose(out[0], out[1], rtol=0, atol=1e-9 * np.abs(out[1]).max())

@@ -2,7 +2,7 @@
 
 :func:`run_batch` takes designs that differ only in values (see :mod:`.structure`): the
 gravity step of every design, then its stroke, are stepped by one compiled loop vmapped
-over the designs (:func:`fe.make_batch_driver`); between them each design gets its
+over the designs (a :class:`fe.Stepper` with the batch loop); between them each design gets its
 damping from its own modal analysis (:class:`ModalDamping`, short, on the host). Every
 design keeps its own step size, rejections, Newton iterations and records, and the same
 chunks of simulated time as :func:`run` takes, so a design of a batch takes the steps of
@@ -212,13 +212,13 @@ def _check_programs(ctxs) -> None:
     """The built programs must match too (a structure the spec keys do not show, such as
     the corner contact's window, which follows the substrate's period)."""
     first = ctxs[0]
-    args = first.driver_args(True)
+    stepper = first.stepper(True, "batch")
     tree = jax.tree.structure(first.crawler.model.params)
     shapes = [np.shape(x) for x in jax.tree.leaves(first.crawler.model.params)]
     for i, ctx in enumerate(ctxs[1:], start=1):
         params = ctx.crawler.model.params
         same = (
-            ctx.driver_args(True) == args
+            ctx.stepper(True, "batch") == stepper
             and jax.tree.structure(params) == tree
             and [np.shape(x) for x in jax.tree.leaves(params)] == shapes
         )
@@ -293,10 +293,11 @@ class _BatchAdvance:
         slots = live + [live[-1]] * (self.width - len(live))
         real = np.array([j < len(live) for j in range(self.width)])
         first = ctxs[live[0]]
-        driver = fe.make_batch_driver(*first.driver_args(True), first.parallel_trials)
-        carry = fe.stack([fe.driver_start(ctxs[i].state, ctxs[i].dt) for i in slots])
+        stepper = first.stepper(True, "batch")
         params = fe.stack([ctxs[i].model.params for i in slots])
-        pending = driver.pending(carry, params)
+        carry, pending = stepper.start(
+            [ctxs[i].state for i in slots], [ctxs[i].dt for i in slots], params
+        )
         t, t_end, chunk, dt_min, dt_max = self._inputs(plans, slots, real)
         t_stop = np.minimum(t + chunk, t_end)
         checked = np.full(self.width, check)
@@ -305,7 +306,7 @@ class _BatchAdvance:
         while active.any():
             args = (carry, pending, params, t_stop, t_end, chunk, dt_min, dt_max, checked)
             args = _strong(args)
-            program, seconds = _compiled(driver.run, args)
+            program, seconds = _compiled(stepper.program, args)
             stats["compile_time_s"] += seconds
             carry, pending, buf, k, failed, t_stop, n = program(*args)
             buf, k, failed, t_stop = jax.device_get((buf, k, failed, t_stop))

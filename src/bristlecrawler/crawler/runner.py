@@ -43,8 +43,8 @@ class RunOptions:
         settle_omega: first-frequency estimate for the settle's provisional damping, rad/s
             (replaced by the modal analysis after it).
         capacity: steps per compiled chunk.
-        driver: "host" (:func:`fe.make_host_driver`, the loop in Python), "compiled"
-            (:func:`fe.make_driver`, one XLA loop) or "auto" (host on a CPU, compiled
+        driver: "host" (the :class:`fe.Stepper`'s loop in Python), "compiled" (one XLA
+            loop) or "auto" (host on a CPU, compiled
             elsewhere: on a CPU both take the same time per run, but the compiled loop
             takes longer to compile and to load from the cache).
         compile_threads: threads that compile the run's programs at its start (1: one
@@ -207,18 +207,25 @@ class RunContext:
                 Progress(self.stage, t, self.t_end, max(len(self.records) - 1, 0), self.iterations)
             )
 
-    def driver_args(self, check: bool) -> tuple:
-        """The static arguments of the adaptive drivers for this crawler (topology, terms,
-        integrator, observer, capacity, step control, energy check): equal for designs
-        that share one compiled program."""
+    def stepper(self, check: bool, loop: str | None = None):
+        """The :class:`fe.Stepper` of this crawler (topology, terms, integrator, observer,
+        capacity, step control, energy check; ``loop`` this run's, or "batch"): equal for
+        designs that share one compiled program."""
+        from bristlecrawler import fe
 
         sv = self.spec.solver
-        ig = sv.integrator(self.spec.contact.penetration_limit)
-        energy = self.energy_check(losses=check)
         m = self.crawler.model
-        control = sv.control
-        obs = self.crawler.observer()
-        return (m.topology, m.terms, ig, obs, self.options.capacity, control, energy)
+        loop = loop or ("host" if self.host else "compiled")
+        return fe.Stepper(
+            m.topology,
+            m.terms,
+            sv.integrator(self.spec.contact.penetration_limit),
+            fe.SaveAt(self.crawler.observer(), self.options.capacity),
+            sv.control,
+            self.energy_check(losses=check),
+            loop=loop,
+            parallel_trials=loop == "batch" and self.parallel_trials,
+        )
 
     def energy_check(self, losses: bool) -> EnergyCheck | None:
         """The steps' energy check: energy created beyond ``solver.energy_tol`` is refused
@@ -229,22 +236,13 @@ class RunContext:
         tols = (sv.energy_tol, sv.energy_loss_tol if losses else math.inf)
         return EnergyCheck(*tols) if any(map(math.isfinite, tols)) else None
 
-    def driver(self, check: bool):
-        """The adaptive driver of this crawler (cached per structure and options)."""
-        from bristlecrawler import fe
-
-        make = fe.make_host_driver if self.host else fe.make_driver
-        return make(*self.driver_args(check))
-
     def advance(self, t_stop: float, dt_max: float, where: str, check: bool) -> None:
         """Drive to ``t_stop``; every accepted step's record goes to ``records``."""
-        from bristlecrawler import fe
-
-        run = self.driver(check)
-        carry = fe.driver_start(self.state, self.dt)
+        stepper = self.stepper(check)
+        carry = stepper.start(self.state, self.dt)
         while float(carry.state.t) < t_stop - 1e-9:
             it0, rej0 = int(carry.iterations), int(carry.rejected)
-            carry, buf, k, failed = run(
+            carry, buf, k, failed = stepper.run(
                 carry, self.model.params, t_stop, self.spec.solver.dt_min, dt_max
             )
             buf, k = jax.device_get(buf), int(k)

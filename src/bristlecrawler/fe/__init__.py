@@ -14,23 +14,12 @@ from bristlecrawler.fe.backward_euler import BackwardEuler
 from bristlecrawler.fe.banded import BlockSystem
 from bristlecrawler.fe.cache import enable_compilation_cache
 from bristlecrawler.fe.control import StepControl
-from bristlecrawler.fe.drivers import (
-    DriverCarry,
-    driver_start,
-    make_batch_driver,
-    make_driver,
-    make_host_driver,
-    stack,
-)
 from bristlecrawler.fe.dynamics import (
-    DynResult,
     DynState,
     Rayleigh,
     energy,
     initial_state,
-    integrate,
     make_step,
-    run_fixed,
 )
 from bristlecrawler.fe.hht import HHT
 from bristlecrawler.fe.integrator import Integrator
@@ -46,6 +35,7 @@ from bristlecrawler.fe.static import (
     solve_static,
 )
 from bristlecrawler.fe.status import StepInfo, check, message
+from bristlecrawler.fe.stepping import SaveAt, Solution, Stepper, solve, stack
 from bristlecrawler.fe.structure import Structure, TaperedRect
 from bristlecrawler.fe.terms import Term
 
@@ -54,8 +44,6 @@ __all__ = [
     "BackwardEuler",
     "BlockSystem",
     "Constant",
-    "DriverCarry",
-    "DynResult",
     "DynState",
     "Integrator",
     "Model",
@@ -65,13 +53,16 @@ __all__ = [
     "Piecewise",
     "Ramp",
     "Rayleigh",
+    "SaveAt",
     "Sin2",
     "Sine",
+    "Solution",
     "StaticOptions",
     "StaticResult",
     "StaticState",
     "StepControl",
     "StepInfo",
+    "Stepper",
     "Structure",
     "TaperedRect",
     "Term",
@@ -79,18 +70,13 @@ __all__ = [
     "Topology",
     "check",
     "check_supported",
-    "driver_start",
     "enable_compilation_cache",
     "energy",
     "initial_state",
-    "integrate",
-    "make_batch_driver",
-    "make_driver",
-    "make_host_driver",
     "make_step",
     "message",
     "modes",
-    "run_fixed",
+    "solve",
     "solve_static",
     "stack",
 ]

@@ -23,7 +23,7 @@ from bristlecrawler.fe.integrator import Integrator, element_masses, force
 
 
 @dataclasses.dataclass(frozen=True, init=False)
-class BackwardEuler(Integrator):
+class BackwardEuler(Integrator, scheme="backward_euler"):
     """Backward Euler (make it with :meth:`Integrator.backward_euler`). Nothing is shared
     between the steps from one state but the state itself (:meth:`init` is empty)."""
 

@@ -32,8 +32,7 @@ class StepControl:
     Newton iterations, grow the next one by ``grow`` (up to the stepper's largest step).
 
     One object, one set of defaults and one rule (:meth:`decide`), used by
-    :func:`fe.integrate`, the adaptive drivers (:func:`fe.make_driver`,
-    :func:`fe.make_host_driver`, :func:`fe.make_batch_driver`), the load stepping of
+    every loop of :class:`fe.Stepper` (host, compiled and batched), the load stepping of
     :func:`fe.solve_static`, the contact verification stepper and the crawler runs
     (``[solver] grow, easy_iterations``). Hashable, so it is part of the drivers'
     caches."""
@@ -109,8 +108,8 @@ class Attempt(NamedTuple):
 
 
 def march(attempt, state, t, t_end, dt, dt_min, dt_max, control=None, *, time_of=None, more=None):
-    """The host loop of every adaptive stepper (time steps of :func:`fe.integrate` and
-    :func:`fe.make_host_driver`, load increments of :func:`fe.solve_static`, the contact
+    """The host loop of every adaptive stepper (time steps of :class:`fe.Stepper`'s host
+    loop, load increments of :func:`fe.solve_static`, the contact
     verification's stepper): from ``state`` at ``t`` towards ``t_end``, try a step of
     ``min(dt, t_end - t)``, let :meth:`StepControl.decide` judge it, and go on from the
     new state where it is accepted. The compiled drivers run the same rule in a

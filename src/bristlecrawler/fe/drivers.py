@@ -1,13 +1,14 @@
-"""Adaptive time-step drivers around the dynamic step of :mod:`.dynamics`.
+"""The loops behind :class:`fe.Stepper` (:mod:`.stepping`, the door to use).
 
-Both take steps with the rules of :func:`dynamics.integrate` (halve on failure, grow after
-easy steps, stay within [dt_min, dt_max]) and record an observer after every accepted
-step (and, given a ``check``, reject a converged step whose error estimate the check
-refuses): :func:`make_driver` as one compiled XLA loop (the form for a GPU and for ``vmap``
-batches), :func:`make_host_driver` as a host loop around the compiled step (the smaller
-program to compile on a CPU; as fast per run there). :func:`make_batch_driver` is the
-compiled loop for designs of one structure, one Newton iteration of every design at a
-time. :func:`driver_start` makes the first carry.
+Each takes steps of the dynamic step of :mod:`.dynamics` with one rule
+(:meth:`StepControl.decide`: halve on failure, grow after easy steps, stay within
+[dt_min, dt_max]) and records an observer after every accepted step (and, given a
+``check``, rejects a converged step whose error estimate the check refuses):
+:func:`make_driver` as one compiled XLA loop (the form for a GPU), :func:`make_host_driver`
+as a host loop around the compiled step (the smaller program to compile on a CPU; as fast
+per run there), :func:`make_batch_driver` as the compiled loop for designs of one
+structure, one Newton iteration of every design at a time. :func:`driver_start` makes the
+first carry.
 """
 
 from __future__ import annotations
@@ -187,7 +188,7 @@ def make_batch_driver(
     of its own step: a design that needs many iterations for a step (or fails one after
     ``max_iter``) holds up no other design. ``run(carry, pending, params, t_stop, t_end,
     chunk, dt_min, dt_max, checked)`` with every argument stacked on a leading design axis
-    (from :func:`stack`; ``pending`` from :attr:`BatchDriver.pending` at the start);
+    (from :func:`.stepping.stack`; ``pending`` from :attr:`BatchDriver.pending` at the start);
     ``checked`` (bool) False bounds a design's steps by the check's ``created(previous,
     new)`` instead (the energy a step creates alone: the gravity step's bound), so that
     the gravity step runs in the same program. Each design keeps its own step size,
@@ -278,11 +279,6 @@ def _tree_where(mask, new, old):
 
 def _where(mask, new, old):
     return jnp.where(mask.reshape(mask.shape + (1,) * (jnp.ndim(new) - 1)), new, old)
-
-
-def stack(trees):
-    """Pytrees of equal structure stacked on a new leading (design) axis."""
-    return jax.tree.map(lambda *x: jnp.stack([jnp.asarray(v) for v in x]), *trees)
 
 
 @functools.lru_cache(maxsize=32)

@@ -19,23 +19,19 @@ from typing import Any
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from bristlecrawler._pytree import pytree
-from bristlecrawler.errors import InputError, SolverError
+from bristlecrawler.errors import InputError
 from bristlecrawler.fe import assembly, banded
-from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl, march
 from bristlecrawler.fe.integrator import Integrator, force
 from bristlecrawler.fe.newton import newton_parts
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import (
     PENETRATION,
     ROTATION_LIMIT,
-    STEP_TOO_SMALL,
     SUCCESS,
     UNSUPPORTED_DAMPING,
     StepInfo,
-    message,
 )
 from bristlecrawler.fe.terms import (
     commit_all,
@@ -221,113 +217,3 @@ def energy(state: DynState, model) -> dict[str, float]:
     V = float(assembly.internal_energy(state.u, p, topo))
     W = float(jnp.sum(assembly.external_force(state.t, 1.0, p, topo) * state.u))
     return {"kinetic": T, "strain": V, "load_potential": -W, "total": T + V - W}
-
-
-@dataclasses.dataclass(frozen=True)
-class DynResult:
-    """Adaptive run: final state, accepted times (s), observed values, infos, ok, message."""
-
-    state: DynState
-    times: np.ndarray
-    observed: list
-    infos: list
-    ok: bool
-    message: str
-    rejected: int
-
-
-def integrate(
-    model,
-    state: DynState,
-    t_end: float,
-    dt: float,
-    *,
-    integrator: Integrator | None = None,
-    dt_min: float | None = None,
-    dt_max: float | None = None,
-    control: StepControl = DEFAULT_CONTROL,
-    observe=None,
-    throw: bool = True,
-) -> DynResult:
-    """Adaptive time stepping from ``state`` to ``t_end`` (s), starting with step ``dt`` (s).
-
-    A step that fails (Newton limit, NaN) is retried with dt/2 (but a fatal status,
-    :data:`status.FATAL`, which a smaller step cannot cure, ends the run); after an easy
-    step it grows (``control``, :class:`StepControl`); dt stays in
-    [dt_min, dt_max] (defaults dt/1e4 and dt). ``observe(state) -> anything`` is recorded
-    after every accepted step. Returns :class:`DynResult`; raises SolverError if ``throw``
-    and dt falls below dt_min.
-    """
-    if not (dt > 0.0 and math.isfinite(dt)):
-        raise InputError(f"dt must be positive, got {dt}")
-    dt_min = dt * 1e-4 if dt_min is None else dt_min
-    dt_max = dt if dt_max is None else dt_max
-    step = make_step(model.topology, model.terms, integrator)
-    params = model.params
-    times, observed, infos = [], [], []
-    rejected = 0
-
-    def attempt(state, h):
-        new, info = step(state, params, jnp.asarray(h))
-        infos.append(info)
-        return new, info, int(info.status), None
-
-    tries = march(
-        attempt,
-        state,
-        float(state.t),
-        t_end,
-        dt,
-        dt_min,
-        dt_max,
-        control,
-        time_of=lambda s: float(s.t),
-    )
-    for a in tries:
-        out = a.outcome
-        if out.good:
-            state = a.new
-            times.append(float(state.t))
-            if observe is not None:
-                observed.append(observe(state))
-            continue
-        rejected += 1
-        if out.failed:
-            where = f"dynamics, step {len(times) + 1}"
-            msg = message(a.info, where)
-            if out.status == STEP_TOO_SMALL:
-                msg += f"; dt cut below dt_min = {dt_min:g} s"
-                infos[-1] = dataclasses.replace(a.info, status=jnp.asarray(STEP_TOO_SMALL))
-            if throw:
-                raise SolverError(msg)
-            return DynResult(state, np.asarray(times), observed, infos, False, msg, rejected)
-    return DynResult(state, np.asarray(times), observed, infos, True, "converged", rejected)
-
-
-def run_fixed(
-    model_or_topology,
-    state: DynState,
-    params,
-    dt: float,
-    n_steps: int,
-    integrator: Integrator | None = None,
-    terms=(),
-):
-    """``n_steps`` steps of fixed ``dt`` in one compiled ``lax.scan`` (batched runs, bench).
-
-    Returns (final state, StepInfo stacked over steps). A failed step leaves the state
-    unchanged, so check the infos (:func:`status.check`).
-    """
-    topo = getattr(model_or_topology, "topology", model_or_topology)
-    terms = getattr(model_or_topology, "terms", terms)
-    step = make_step(topo, terms, integrator)
-    return _scan(step, state, params, jnp.asarray(dt), n_steps)
-
-
-@functools.partial(jax.jit, static_argnums=(0, 4))
-def _scan(step, state, params, dt, n_steps):
-    def body(s, _):
-        s, info = step(s, params, dt)
-        return s, info
-
-    return jax.lax.scan(body, state, None, length=n_steps)

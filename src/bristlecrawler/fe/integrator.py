@@ -22,6 +22,7 @@ from __future__ import annotations
 import abc
 import dataclasses
 import math
+from typing import ClassVar
 
 import jax.numpy as jnp
 
@@ -113,30 +114,29 @@ class Integrator(abc.ABC):
     def equations(self, state, start, params, dt, topo, terms):
         """``(kin, residual)`` of one step of ``dt`` (s) from ``state`` (see the module)."""
 
-    # -- the schemes ----------------------------------------------------------------------
+    # -- the schemes by name ------------------------------------------------------------
+    # A scheme's module registers its class (``class HHT(Integrator, scheme="hht")``), so
+    # the base class names them without importing them.
+
+    _schemes: ClassVar[dict[str, type]] = {}
+
+    def __init_subclass__(cls, scheme: str | None = None, **kw):
+        super().__init_subclass__(**kw)
+        if scheme is not None:
+            Integrator._schemes[scheme] = cls
 
     @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
         """HHT-alpha (:class:`.hht.HHT`), alpha in [-1/3, 0]."""
-        from bristlecrawler.fe.hht import HHT  # the scheme's module imports this one
-
-        if not (-1.0 / 3.0 <= alpha <= 0.0):
-            raise InputError(f"HHT alpha must be in [-1/3, 0], got {alpha}")
-        return HHT(alpha=alpha, beta=(1.0 - alpha) ** 2 / 4.0, gamma=0.5 - alpha, **kw)
+        return Integrator._schemes["hht"].hht(alpha, **kw)
 
     @classmethod
     def newmark(cls, beta: float = 0.25, gamma: float = 0.5, **kw) -> Integrator:
         """Newmark (:class:`.hht.HHT` with alpha = 0); the default (1/4, 1/2) is the
         trapezoidal rule."""
-        from bristlecrawler.fe.hht import HHT
-
-        if not (beta > 0.0 and gamma >= 0.5):
-            raise InputError(f"Newmark needs beta > 0 and gamma >= 1/2, got {beta}, {gamma}")
-        return HHT(alpha=0.0, beta=beta, gamma=gamma, **kw)
+        return Integrator._schemes["hht"].newmark(beta, gamma, **kw)
 
     @classmethod
     def backward_euler(cls, **kw) -> Integrator:
         """Backward Euler (:class:`.backward_euler.BackwardEuler`): first order, L-stable."""
-        from bristlecrawler.fe.backward_euler import BackwardEuler
-
-        return BackwardEuler(**kw)
+        return Integrator._schemes["backward_euler"](**kw)

@@ -22,13 +22,13 @@ import numpy as np
 from bristlecrawler.fe import (
     Integrator,
     StaticOptions,
+    Stepper,
     Structure,
     TaperedRect,
     energy,
     initial_state,
     make_step,
     modes,
-    run_fixed,
     solve_static,
 )
 from bristlecrawler.verification import references as ref
@@ -238,7 +238,7 @@ def case_energy(n_steps: int = 1000) -> list[Row]:
     E0 = energy(s0, free)["total"]
     drift, s = 0.0, s0
     for _ in range(n_steps // chunk):
-        s, infos = run_fixed(free, s, free.params, dt, chunk, ig)
+        s, infos = Stepper.of(free, integrator=ig).fixed(s, free.params, dt, chunk)
         if not np.all(np.asarray(infos.status) == 0):
             drift = float("inf")
             break

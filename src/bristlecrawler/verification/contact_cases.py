@@ -73,10 +73,16 @@ def start_at(model, q, history):
 
 
 def run(model, state, t_end, dt, observe, integrator=HHT):
-    """Adaptive HHT run (:func:`fe.integrate`: steps of ``dt`` s, halved when Newton fails);
-    returns the result and host copies of the observations, one per accepted step."""
-    res = fe.integrate(model, state, t_end, dt, integrator=integrator, observe=observe)
-    return res, jax.device_get(res.observed)
+    """Adaptive HHT run (:func:`fe.solve`: steps of ``dt`` s, halved when Newton fails);
+    returns the :class:`fe.Solution` and host copies of ``observe(state)`` (jittable),
+    one per accepted step."""
+
+    def save(st, params):
+        return {"t": st.t, "observed": observe(st)}
+
+    res = fe.solve(model, state, t_end, dt, integrator=integrator, save=fe.SaveAt(save))
+    rows = jax.device_get(res.records["observed"]) if res.steps else None
+    return res, [jax.tree.map(lambda x, i=i: x[i], rows) for i in range(res.steps)]
 
 
 class ResolvedRun(NamedTuple):
@@ -106,7 +112,7 @@ def run_resolving(
     dt_floor=None,
     control=None,
 ):
-    """Time stepping as :func:`fe.integrate` (the rules of ``control``, a
+    """Time stepping as :func:`fe.solve` (the rules of ``control``, a
     :class:`fe.StepControl`, default its defaults; steps <= ``dt`` s), and a converged step
     is also cut when the normal force of a slipping contact point changes by more than
     ``max_dp`` N in it.
