@@ -8,8 +8,15 @@ import pytest
 
 from bristlecrawler.contact.substrates import Flat
 from bristlecrawler.crawler import CrawlerSpec
-from bristlecrawler.crawler.drag import DragTest, build_drag, drag_test, quasi_static_ratio
+from bristlecrawler.crawler.drag import (
+    DragTest,
+    build_drag,
+    drag_test,
+    drag_tests,
+    quasi_static_ratio,
+)
 from bristlecrawler.errors import InputError
+from bristlecrawler.states import ContactState
 from bristlecrawler.verification.references import inclined_horizontal_stiffness
 from structures import drag_rig
 
@@ -77,6 +84,25 @@ def test_sliding_on_a_flat_plane_takes_mu_times_the_normal_load():
     np.testing.assert_allclose(r.force_x[slide], 2.0 * normal, rtol=0.03)
     weight = 0.02 + spec.bristles[0].mass * spec.gravity
     assert r.sliding(+1).mean == pytest.approx(2.0 * weight, rel=1e-2)
+
+
+@pytest.mark.slow
+def test_drag_tests_in_a_batch_take_the_steps_of_their_single_runs():
+    """Two designs of one rig (friction 2.0 and 1.5) dragged in one batched program: the
+    first records what its single run records, step for step, and the second slides at
+    its own mu times the normal force."""
+    spec, single = _flat()
+    other = dataclasses.replace(spec, contact=dataclasses.replace(spec.contact, mu=1.5))
+    (a, b), errors = drag_tests([spec, other], DragTest(direction="along", distance=1.5, load=0.02))
+    assert errors == [None, None]
+    np.testing.assert_allclose(a.t, single.t, rtol=1e-12)
+    # To the round-off of the settled state: 1e-7 N is 0.4 nm of the contact penalty's
+    # normal spring (273 N/mm, sized for the paper's weight share).
+    np.testing.assert_allclose(a.force_x, single.force_x, atol=1e-7)
+    np.testing.assert_allclose(a.tip, single.tip, atol=1e-6)
+    slip = b.tip_state == ContactState.SLIP
+    assert slip.sum() >= 10
+    np.testing.assert_allclose(np.abs(b.contact[slip, 0]), 1.5 * b.contact[slip, 1], rtol=1e-6)
 
 
 @pytest.mark.slow

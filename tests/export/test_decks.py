@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from bristlecrawler.contact.profile import profile_chain
 from bristlecrawler.contact.substrates import Flat, Grooves, Sawtooth
-from bristlecrawler.crawler.drag import DragTest, weight_share
+from bristlecrawler.crawler.drag import DragTest
+from bristlecrawler.crawler.model import weight_share
 from bristlecrawler.crawler.spec import Actuation, Bristle, CrawlerSpec
 from bristlecrawler.errors import InputError
 from bristlecrawler.export import ContinuumOptions, continuum_deck, crawler_deck, drag_beam_deck

@@ -21,17 +21,18 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler import fe
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import build
 from bristlecrawler.crawler.runner import (
     DEFAULT_STAGES,
     ModalDamping,
     Progress,
+    Rig,
     RunContext,
     RunOptions,
     Settle,
     SteppedStage,
-    Stroke,
     history_of,
 )
 from bristlecrawler.crawler.spec import CrawlerSpec
@@ -86,14 +87,39 @@ def run_batch(
     """
     wall0 = time.perf_counter()
     specs = tuple(specs)
-    width = _check_input(specs, width)
+    width = check_designs(specs, width)
+    rigs = [build(s) for s in specs]
+    built = time.perf_counter()
+    ctxs, errors, stats = run_rigs(rigs, stages, width, options, on_progress)
+    histories = []
+    t_records = time.perf_counter()
+    for ctx, err in zip(ctxs, errors, strict=True):
+        histories.append(None if err is not None else history_of(ctx))
+    stats["histories_wall_time_s"] = time.perf_counter() - t_records
+    stats["wall_time_s"] = time.perf_counter() - wall0
+    stats["prepare_wall_time_s"] += built - wall0
+    return BatchResult(tuple(histories), tuple(errors), stats)
+
+
+def run_rigs(
+    rigs: Sequence[Rig],
+    stages: Sequence[SteppedStage],
+    width: int,
+    options: RunOptions | None = None,
+    on_progress: Callable[[Progress], None] | None = None,
+) -> tuple[list[RunContext], list[str | None], dict]:
+    """``stages`` on built rigs of one structure (crawlers or drag tests' rigs) as one
+    batch of ``width`` designs: (each design's run context, its error or None, the
+    batch's statistics as in :class:`BatchResult`). The caller checks ``width``
+    against the rigs (:func:`run_batch` does)."""
+    wall0 = time.perf_counter()
     stages = _check_stages(stages)
     options = options or RunOptions()
-    ctxs = [RunContext(build(s), options, None, t_end=0.0, batched=True) for s in specs]
+    ctxs = [RunContext(r, options, None, t_end=0.0, batched=True) for r in rigs]
     for ctx in ctxs:
         ctx.stages = stages
     _check_programs(ctxs)
-    errors: list[str | None] = [None] * len(specs)
+    errors: list[str | None] = [None] * len(ctxs)
     batch = _BatchAdvance(ctxs, errors, width, on_progress)
     stats = {"width": width, "compile_time_s": 0.0, "prepare_wall_time_s": 0.0}
     stats |= {"stroke_wall_time_s": 0.0, "batch_iterations": 0, "design_iterations": 0}
@@ -102,16 +128,11 @@ def run_batch(
     for stage in stages:
         _add_stats(stats, stage, _run_stage(stage, batch))
     stats["prepare_wall_time_s"] += built - wall0
-    histories = []
-    t_records = time.perf_counter()
     for ctx, err in zip(ctxs, errors, strict=True):
         if err is None:
             ctx.stats["wall_time_s"] = time.perf_counter() - wall0
             ctx.stats["compile_time_s"] = stats["compile_time_s"]
-        histories.append(None if err is not None else history_of(ctx))
-    stats["histories_wall_time_s"] = time.perf_counter() - t_records
-    stats["wall_time_s"] = time.perf_counter() - wall0
-    return BatchResult(tuple(histories), tuple(errors), stats)
+    return ctxs, errors, stats
 
 
 def _run_stage(stage: SteppedStage, batch: _BatchAdvance) -> dict:
@@ -148,7 +169,7 @@ def _add_stats(stats: dict, stage: SteppedStage, times: dict) -> None:
         stats["settle_wall_time_s"] = stepped["wall_time_s"] - stepped["compile_time_s"]
     elif isinstance(stage, ModalDamping):
         stats["modal_wall_time_s"] = times["whole"]
-    elif isinstance(stage, Stroke):
+    elif stage.measured:
         for key in ("stroke_wall_time_s", "batch_iterations", "design_iterations"):
             stats[key] = stepped[key]
         stats["utilisation"] = stepped["utilisation"]
@@ -191,7 +212,10 @@ def group(specs: Sequence[CrawlerSpec], size: int) -> list[list[int]]:
     return [ix[k : k + size] for ix in by_structure.values() for k in range(0, len(ix), size)]
 
 
-def _check_input(specs, width) -> int:
+def check_designs(specs, width) -> int:
+    """The width of a batch of ``specs`` (default: as many as given), or an
+    :class:`InputError` (no designs, not CrawlerSpec objects, more designs than ``width``,
+    designs of different structures)."""
     if not specs:
         raise InputError("a batch needs at least one design, got none")
     if not all(isinstance(s, CrawlerSpec) for s in specs):
@@ -286,7 +310,6 @@ class _BatchAdvance:
         return t, t_end, chunk, dt_min, dt_max
 
     def _run(self, stage, plans: dict, check: bool, stats: dict) -> None:
-        from bristlecrawler import fe
 
         ctxs, live = self.ctxs, self.live
         # Padding slots repeat a live design and stay masked (their stage is empty).

@@ -23,9 +23,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler import fe
+from bristlecrawler.crawler.batch import check_designs, run_rigs
 from bristlecrawler.crawler.drag_analysis import result_of, substrate_pitch
-from bristlecrawler.crawler.model import add_contact, bristle_drop
+from bristlecrawler.crawler.model import add_contact, bristle_ends, weight_share
 from bristlecrawler.crawler.record import state_terms, tip_states
+from bristlecrawler.crawler.runner import Advance, ModalDamping, Settle, SteppedStage, run_stages
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError
 
@@ -117,12 +120,6 @@ class DragTest:
             raise InputError(f"drag load must be a positive number of N, got {self.load}")
 
 
-def weight_share(spec: CrawlerSpec) -> float:
-    """The crawler's weight on one bristle, N."""
-    mass = spec.body.mass + sum(b.mass for b in spec.bristles)
-    return mass * spec.gravity / len(spec.bristles)
-
-
 def first_frequency_estimate(spec: CrawlerSpec, index: int = 0) -> float:
     """First bending frequency of the clamped bristle, Hz: the uniform cantilever's
     1.875^2 sqrt(EI / (rho A L^4)) with the mean thickness (an estimate for the speed check)."""
@@ -168,8 +165,6 @@ class DragModel:
 
 def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
     """Check the design and the test (one-line :class:`InputError`) and build the model."""
-    from bristlecrawler import fe
-
     test = test or DragTest()
     spec.check()
     test.check(spec)
@@ -181,15 +176,15 @@ def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
     )
     one = dataclasses.replace(spec, bristles=(b,), contact=contact)
     s = fe.Structure()
-    drop, tip_y = bristle_drop(b, contact)
-    clamp = s.node(0.0, drop)
+    root, tip = bristle_ends(b, contact, x=0.0)
+    clamp = s.node(*root)
     if spec.gravity > 0:
         s.point_mass(clamp, load / spec.gravity)
     t, x = test.path()
     settle = spec.actuation.settle_time
     s.prescribe(clamp, "x", fe.Piecewise(jnp.asarray(t + settle), jnp.asarray(x)))
     s.fix(clamp, "theta")
-    chain = tuple(s.chain(clamp, (-b.length * math.sin(b.alpha), tip_y), b.elements, b.section()))
+    chain = tuple(s.chain(clamp, tip, b.elements, b.section()))
     s.gravity(0.0, -spec.gravity)
     s.stiffness_damping(spec.damping.stiffness_proportional)
     term, _, tip_points = add_contact(s, one, [chain])
@@ -224,33 +219,46 @@ def _make_drag_observer(topo, terms, contact_index, clamp, tip_points):
 
 
 @dataclass(frozen=True)
-class DragStage:
+class DragStage(SteppedStage):
     """Drag the carriage along the test's path, recorded step by step with steps of at
     most ``resolution`` mm of travel (in chunks of a twentieth of the path, so that
-    progress moves)."""
+    progress moves). A stepped stage, so a batch of drag tests runs it too."""
 
     name: str = "drag"
+    measured = True
 
     def span(self, ctx) -> float:
         return ctx.crawler.test.duration
 
-    def __call__(self, ctx) -> None:
+    def start(self, ctx) -> None:
         ctx.report("")
         ctx.records.append(jax.device_get(ctx.crawler.observer()(ctx.state, ctx.model.params)))
-        t0 = float(ctx.state.t)
-        t_end = t0 + self.span(ctx)
-        chunk = max(self.span(ctx) / 20.0, 0.5)
-        t = t0
+
+    def stepping(self, ctx) -> Advance:
         test = ctx.crawler.test
+        chunk = max(self.span(ctx) / 20.0, 0.5)
         dt_max = min(ctx.spec.solver.dt_max, test.resolution / test.speed)
-        while t < t_end - 1e-9:
-            ctx.advance(min(t + chunk, t_end), dt_max, "drag", check=True)
-            t = float(ctx.state.t)
+        return Advance(self.span(ctx), chunk, dt_max, check=True)
+
+
+#: A drag test's stages: the crawler's gravity step and modal damping, then the drag.
+DRAG_STAGES = (Settle(), ModalDamping(), DragStage())
 
 
 def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, on_progress=None):
     """Run a drag test of ``spec``'s bristle and return its :class:`DragResult`."""
-    from bristlecrawler.crawler.runner import ModalDamping, Settle, run_stages
+    return result_of(run_stages(build_drag(spec, test), DRAG_STAGES, options, on_progress))
 
-    stages = (Settle(), ModalDamping(), DragStage())
-    return result_of(run_stages(build_drag(spec, test), stages, options, on_progress))
+
+def drag_tests(specs, test: DragTest | None = None, *, width=None, options=None):
+    """The drag test ``test`` of designs of one structure (values apart: friction,
+    inclination, load, ...) as one batch, in one compiled program, each design taking the
+    steps of its own :func:`drag_test`. Returns (each design's :class:`DragResult` or
+    None, each design's error or None); bad input is an :class:`InputError` before any
+    work, as for :func:`~.batch.run_batch`."""
+    specs = tuple(specs)
+    width = check_designs(specs, width)
+    rigs = [build_drag(s, test) for s in specs]
+    ctxs, errors, _ = run_rigs(rigs, DRAG_STAGES, width, options)
+    results = [None if e is not None else result_of(c) for c, e in zip(ctxs, errors, strict=True)]
+    return results, errors

@@ -19,6 +19,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bristlecrawler import fe
+from bristlecrawler.contact.corner import FaceCornerContact, beam_outline, convex_corners
+from bristlecrawler.contact.coulomb import CoulombLaw
+from bristlecrawler.contact.substrates import Flat
+from bristlecrawler.contact.term import SubstrateContact
+from bristlecrawler.crawler.actuation import DelayedSin2, SampledStretch
+from bristlecrawler.crawler.record import observer
 from bristlecrawler.crawler.spec import Bristle, CrawlerSpec
 
 #: Initial penetration of the tips, mm: they start just touching the substrate's top.
@@ -77,8 +84,6 @@ class CrawlerModel:
 
     def observer(self):
         """The jitted record of a state (:func:`record.observer`)."""
-        from bristlecrawler.crawler.record import observer
-
         return observer(self)
 
     def node_thickness(self) -> np.ndarray:
@@ -87,6 +92,26 @@ class CrawlerModel:
         for chain, b in zip(self.bristles, self.spec.bristles, strict=True):
             out[list(chain)] = b.node_thickness()
         return out
+
+
+def weight(spec: CrawlerSpec) -> float:
+    """The crawler's weight (body and bristles), N."""
+    return (spec.body.mass + sum(b.mass for b in spec.bristles)) * spec.gravity
+
+
+def weight_share(spec: CrawlerSpec) -> float:
+    """The crawler's weight on one bristle, N: what sizes the contact penalties and what a
+    drag test's carriage carries."""
+    return weight(spec) / len(spec.bristles)
+
+
+def bristle_ends(b: Bristle, c, x: float | None = None):
+    """Reference positions (mm) of a bristle's clamp and tip, ``((x, y), (x, y))``, with
+    the clamp at ``x`` (default: the bristle's position along the body) and the tip's
+    contact point on the substrate's top level (:func:`bristle_drop`)."""
+    drop, tip_y = bristle_drop(b, c)
+    x = b.position if x is None else x
+    return (x, drop), (x - b.length * math.sin(b.alpha), tip_y)
 
 
 def bristle_drop(b: Bristle, c) -> tuple[float, float]:
@@ -102,7 +127,6 @@ def bristle_drop(b: Bristle, c) -> tuple[float, float]:
 
 def stretches(spec: CrawlerSpec) -> list:
     """The prescribed stretch of each body segment (minus its shortening, mm)."""
-    from bristlecrawler.crawler.actuation import DelayedSin2, SampledStretch
 
     a = spec.actuation
     out = []
@@ -131,12 +155,11 @@ def _body_and_bristles(s, spec: CrawlerSpec):
     if not spec.body.free_pitch:
         s.fix(body[0], "theta")
     chains, clamps = [], []
-    for node, b, (drop, tip_y) in zip(body, spec.bristles, drops, strict=True):
-        section = b.section()
-        clamp = s.node(b.position, drop)
+    for node, b in zip(body, spec.bristles, strict=True):
+        root, tip = bristle_ends(b, c)
+        clamp = s.node(*root)
         s.rigid_link(clamp, node)
-        tip = (b.position - b.length * math.sin(b.alpha), tip_y)
-        chains.append(tuple(s.chain(clamp, tip, b.elements, section)))
+        chains.append(tuple(s.chain(clamp, tip, b.elements, b.section())))
         clamps.append(clamp)
     return tuple(body), tuple(clamps), tuple(chains)
 
@@ -173,11 +196,9 @@ def _contact_points(spec: CrawlerSpec, chains):
 def _friction_law(spec: CrawlerSpec):
     """Penalties sized for the weight on one bristle (or a given peak load): penetration
     below 1 micrometre and stick drift below ``contact.stick_drift`` at that load."""
-    from bristlecrawler.contact.coulomb import CoulombLaw
 
     c = spec.contact
-    weight = (spec.body.mass + sum(b.mass for b in spec.bristles)) * spec.gravity
-    load = c.penalty_load or weight / len(spec.bristles)
+    load = c.penalty_load or weight_share(spec)
     return CoulombLaw.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift)
 
 
@@ -185,7 +206,6 @@ def add_contact(s, spec: CrawlerSpec, chains):
     """Add the contact of ``spec``'s bristle ``chains`` with its substrate to structure
     ``s``: the substrate term (and the corner term where the substrate has convex
     corners); returns (substrate term, corner term or None, each tip's contact points)."""
-    from bristlecrawler.contact.term import SubstrateContact
 
     law = _friction_law(spec)
     nodes, offsets, radius, tip_points = _contact_points(spec, chains)
@@ -199,8 +219,6 @@ def add_contact(s, spec: CrawlerSpec, chains):
     # The corner term is contact with the substrate's convex corners: a substrate without
     # any (a flat plane) needs none, whatever the contact settings ask for.
     if spec.contact.corners and _has_convex_corners(spec.substrate):
-        from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
-
         outlines = [
             beam_outline(ch, b.node_thickness(), b.normal())
             for ch, b in zip(chains, spec.bristles, strict=True)
@@ -219,8 +237,6 @@ def add_contact(s, spec: CrawlerSpec, chains):
 
 
 def _has_convex_corners(substrate) -> bool:
-    from bristlecrawler.contact.corner import convex_corners
-    from bristlecrawler.contact.substrates import Flat
 
     return not isinstance(substrate, Flat) and len(convex_corners(substrate)[0]) > 0
 
@@ -240,8 +256,6 @@ def _drawing(body, clamps, chains):
 
 def build(spec: CrawlerSpec) -> CrawlerModel:
     """Check ``spec`` (one-line :class:`InputError`) and build its FE model."""
-    from bristlecrawler import fe
-
     spec.check()
     s = fe.Structure()
     body, clamps, chains = _body_and_bristles(s, spec)

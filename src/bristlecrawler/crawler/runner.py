@@ -26,12 +26,14 @@ from typing import Protocol
 import jax
 import numpy as np
 
+from bristlecrawler import fe
 from bristlecrawler.crawler.history import CrawlerHistory
 from bristlecrawler.crawler.model import CrawlerModel, build
 from bristlecrawler.crawler.record import EnergyCheck, Records
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.crawler.warm import compile_programs
 from bristlecrawler.errors import InputError, SolverError
+from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe, is_fatal
 
 
 @dataclass(frozen=True)
@@ -123,9 +125,11 @@ class Advance:
 
 class SteppedStage:
     """Base of the stages that step in time: ``start``, the ``stepping`` they ask for
-    (None: no stepping), ``finish``. Calling one does the three in turn."""
+    (None: no stepping), ``finish``. Calling one does the three in turn. ``measured``:
+    the stage whose stepping a batch's stroke statistics time (the stroke, a drag)."""
 
     name: str = ""
+    measured = False
 
     def span(self, ctx: RunContext) -> float:
         return 0.0
@@ -151,21 +155,31 @@ class SteppedStage:
         self.finish(ctx)
 
 
-class _Failed(Exception):
-    def __init__(self, msg, carry):
-        super().__init__(msg)
-        self.carry = carry
+class Rig(Protocol):
+    """What a run steps: the crawler (:class:`CrawlerModel`) or a drag test's rig
+    (:class:`~.drag.DragModel`). ``model`` the FE model, ``spec`` the design (its damping,
+    actuation, solver and contact settings drive the stages), ``body`` the nodes whose
+    speed at the end of the gravity step tells how settled the run starts, and
+    ``observer()`` the jitted record of each accepted step."""
+
+    model: object
+    spec: CrawlerSpec
+
+    @property
+    def body(self) -> tuple[int, ...]: ...
+
+    def observer(self): ...
 
 
 @dataclass
 class RunContext:
-    """The state a run's stages share: the crawler (a :class:`CrawlerModel`, or any
-    object with ``model``, ``spec`` and ``observer()``: a drag test's), its current FE
+    """The state a run's stages share: the :class:`Rig` (the crawler or a drag test's
+    rig), its current FE
     model (with the damping in force), dynamic state, step size, records, counters, the
     run's ``stages`` (so that the first one can compile what the others need), whether it
     is a design of a batch, and the marks a stage leaves for its own ``finish``."""
 
-    crawler: CrawlerModel
+    crawler: Rig
     options: RunOptions
     on_progress: Callable[[Progress], None] | None
     t_end: float
@@ -211,8 +225,6 @@ class RunContext:
         """The :class:`fe.Stepper` of this crawler (topology, terms, integrator, observer,
         capacity, step control, energy check; ``loop`` this run's, or "batch"): equal for
         designs that share one compiled program."""
-        from bristlecrawler import fe
-
         sv = self.spec.solver
         m = self.crawler.model
         loop = loop or ("host" if self.host else "compiled")
@@ -258,9 +270,6 @@ class RunContext:
 
     def why(self, carry) -> str:
         """Why the drivers' ``carry`` stopped: the step's message, and the cause."""
-        from bristlecrawler import fe
-        from bristlecrawler.fe.status import CONTACT_OVERFLOW, STEP_ERROR, describe, is_fatal
-
         sv = self.spec.solver
         cause = int(carry.cause)
         msg = fe.message(carry.info, f"step {len(self.records)}")
@@ -301,7 +310,7 @@ class Settle(SteppedStage):
 
     def finish(self, ctx: RunContext) -> None:
         ctx.records.clear()
-        body = getattr(ctx.crawler, "body", ())
+        body = ctx.crawler.body
         if body:
             # How far from rest the stroke starts (docs/findings.md); mass-proportional
             # damping a0 takes every mode down at the rate a0 / 2, so 2 v / a0 is the
@@ -315,8 +324,6 @@ class Settle(SteppedStage):
     @staticmethod
     def setup(ctx: RunContext) -> None:
         """The provisional damping (and the model with it) and the first step size."""
-        from bristlecrawler import fe
-
         ratio, omega = max(ctx.spec.damping.ratio, 0.15), ctx.options.settle_omega
         ctx.damping = fe.Rayleigh.from_ratio(ratio, omega, "mass")
         ctx.model = ctx.damping.apply(ctx.crawler.model)
@@ -333,8 +340,6 @@ def _prepare(ctx: RunContext):
     the persistent cache) at once by :func:`compile_programs` when the run uses the host
     loop (the compiled loop is one program: nothing to compile beside it) or runs in a
     batch. The wall time goes to ``stats["compile_time_s"]``."""
-    from bristlecrawler import fe
-
     if not (ctx.host or ctx.batched):
         ctx.stats["compile_time_s"] = math.nan
         return fe.initial_state(ctx.model)
@@ -354,8 +359,6 @@ class ModalDamping(SteppedStage):
     name: str = "modal analysis"
 
     def start(self, ctx: RunContext) -> None:
-        from bristlecrawler import fe
-
         ctx.report(self.name)
         d, state = ctx.spec.damping, ctx.state
         modes = fe.modes(ctx.model, state.q, n_modes=1, t=float(state.t), history=state.history)
@@ -394,6 +397,7 @@ class Stroke(SteppedStage):
 
     chunk: float | None = None
     name: str = "stroke"
+    measured = True
 
     def span(self, ctx: RunContext) -> float:
         return ctx.spec.actuation.stroke_duration(ctx.spec.segments)

@@ -4,9 +4,16 @@ its start, side by side, so that the run finds them ready."""
 from __future__ import annotations
 
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import jax
 import jax.numpy as jnp
+
+from bristlecrawler import fe
+from bristlecrawler.fe.dynamics import DynState
+from bristlecrawler.fe.modal import mass_matrix
+from bristlecrawler.fe.static import tangent
+from bristlecrawler.fe.terms import init_histories
 
 
 def compile_programs(ctx, *, step: bool, modal: bool):
@@ -17,14 +24,6 @@ def compile_programs(ctx, *, step: bool, modal: bool):
     (``RunOptions.compile_threads``; ``bench/bench_crawler.py --compile-threads``
     compares). The programs other than the initial state's are called on a state of
     zeros of the same shapes and types, so that the run finds them compiled."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    from bristlecrawler import fe
-    from bristlecrawler.fe.dynamics import DynState
-    from bristlecrawler.fe.modal import mass_matrix
-    from bristlecrawler.fe.static import tangent
-    from bristlecrawler.fe.terms import init_histories
-
     model = ctx.model
     t0 = time.perf_counter()
     topo, params = model.topology, model.params

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bristlecrawler.crawler.drag import first_frequency_estimate
-from bristlecrawler.crawler.model import bristle_drop
+from bristlecrawler.crawler.model import bristle_drop, bristle_ends
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.export.beam import (
     STROKE_SAMPLES_PER_PERIOD,
@@ -89,7 +89,7 @@ def crawler_deck(spec: CrawlerSpec, a0: float | None = None) -> tuple[str, Crawl
     body = d.nodes(BODY_FIRST, np.stack([xs, np.full_like(xs, y_body)], axis=1), nset="BODY")
     d.labels("NSET", "FRONT", body[-1:])
     d.labels("NSET", "REAR", body[:1])
-    chains = _bristles(d, spec, drops, damping)
+    chains = _bristles(d, spec, damping)
     _body(d, spec, body, damping)
     for i, node in enumerate(body):
         d.keyword("MPC")
@@ -131,14 +131,14 @@ def crawler_deck(spec: CrawlerSpec, a0: float | None = None) -> tuple[str, Crawl
     return d.text(), info
 
 
-def _bristles(d: Deck, spec: CrawlerSpec, drops, damping) -> list[np.ndarray]:
+def _bristles(d: Deck, spec: CrawlerSpec, damping) -> list[np.ndarray]:
     chains = []
-    for i, (b, (drop, tip_y)) in enumerate(zip(spec.bristles, drops, strict=True)):
+    for i, b in enumerate(spec.bristles):
         tag = f"B{i}"
         first = BRISTLE_FIRST + i * BLOCK
-        clamp = d.nodes(first, np.array([[b.position, drop]]), nset=f"{tag}_CLAMP")
-        tip = (b.position - b.length * math.sin(b.alpha), tip_y)
-        chain = bristle_chain(d, b, int(clamp[0]), (b.position, drop), tip, first + 1, tag)
+        root, tip = bristle_ends(b, spec.contact)
+        clamp = d.nodes(first, np.array([root]), nset=f"{tag}_CLAMP")
+        chain = bristle_chain(d, b, int(clamp[0]), root, tip, first + 1, tag)
         d.labels("NSET", f"{tag}_TIP", chain[-1:])
         d.labels("ELSET", f"{tag}_ALL", first + 1 + np.arange(b.elements))
         d.labels("NSET", f"{tag}_NODES", chain[1:])

@@ -34,7 +34,8 @@ from typing import Literal
 
 import numpy as np
 
-from bristlecrawler.crawler.drag import DragTest, weight_share
+from bristlecrawler.crawler.drag import DragTest
+from bristlecrawler.crawler.model import weight_share
 from bristlecrawler.crawler.spec import Bristle, CrawlerSpec
 from bristlecrawler.errors import InputError
 from bristlecrawler.export.deck import Deck
