@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bristlecrawler.crawler.model import build
-from bristlecrawler.crawler.spec import Bristle, CrawlerSpec
+from bristlecrawler.crawler.spec import Bristle, Contact, CrawlerSpec
 from bristlecrawler.crawler.support import support
 from bristlecrawler.errors import InputError
 from bristlecrawler.verification.contact_beam_cases import bristle_compliance
@@ -52,12 +52,21 @@ def test_the_paper_crawler_and_its_inclinations_up_to_70_degrees_are_accepted():
 
 
 def test_a_bristle_beyond_its_level_face_is_refused_even_without_weight():
+    """Without gravity (the contact penalty sized by a given load instead)."""
     b = Bristle()
-    spec = CrawlerSpec.paper(gravity=0.0).replace_bristles(alpha_deg=_level_face_deg(b) + 0.5)
+    weightless = CrawlerSpec.paper(gravity=0.0, contact=Contact(penalty_load=0.1))
+    spec = weightless.replace_bristles(alpha_deg=_level_face_deg(b) + 0.5)
     with pytest.raises(InputError, match="bristles\\[0\\] cannot carry the body"):
         spec.check()
-    spec = CrawlerSpec.paper(gravity=0.0).replace_bristles(alpha_deg=_level_face_deg(b) - 0.5)
-    spec.check()
+    weightless.replace_bristles(alpha_deg=_level_face_deg(b) - 0.5).check()
+
+
+def test_no_weight_and_no_penalty_load_is_refused():
+    """Nothing would press the bristles down or size the contact penalty: the spec says so
+    in one line, as a scenario file does."""
+    with pytest.raises(InputError, match="gravity = 0 leaves no weight") as err:
+        CrawlerSpec.paper(gravity=0.0).check()
+    assert "\n" not in str(err.value)
 
 
 @settings(max_examples=40, deadline=None)

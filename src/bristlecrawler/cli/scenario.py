@@ -68,7 +68,8 @@ def keys_cmd(
     as_json: Annotated[bool, typer.Option("--json", help="a JSON list on stdout")] = False,
 ) -> None:
     """List every key of a scenario file: unit, default and the `paper` scenario's value
-    (marked * where it differs from the default)."""
+    (marked * where it differs from the default), and whether it is structural (a design
+    that differs in it needs its own compiled program)."""
     from bristlecrawler.scenario.keys import NA, differs, keys_markdown, scenario_keys, toml_value
 
     keys = scenario_keys()
@@ -86,6 +87,7 @@ def keys_cmd(
                 "required": k.required,
                 "paper": None if k.paper is NA else toml_value(k.paper),
                 "meaning": k.meaning,
+                "structural": k.structural,
             }
             for k in keys
         ]
@@ -94,14 +96,17 @@ def keys_cmd(
     from rich.console import Console
     from rich.table import Table
 
-    table = Table(title="scenario keys (* the paper scenario differs from the default)")
-    for col in ("key", "unit", "default", "paper", "meaning"):
+    table = Table(
+        title="scenario keys (* the paper scenario differs from the default; "
+        "S: structural, a design that differs in it needs its own compiled program)"
+    )
+    for col in ("key", "unit", "default", "paper", "meaning", "S"):
         table.add_column(col, overflow="fold")
     for k in keys:
         name = f"{k.key} ({k.kind})" if k.kind else k.key
         paper = "" if k.paper is NA else _short(toml_value(k.paper)) + (" *" if differs(k) else "")
         default = "required" if k.required else toml_value(k.default)
-        table.add_row(name, k.unit, default, paper, k.meaning)
+        table.add_row(name, k.unit, default, paper, k.meaning, "S" if k.structural else "")
     Console().print(table)
 
 

@@ -21,72 +21,86 @@ import numpy as np
 
 from bristlecrawler.crawler.solver import Solver
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe.options import renamed
+from bristlecrawler.fe.options import check_settings, renamed, setting
 
 #: Largest inclination from the vertical a bristle may have, degrees.
 ALPHA_LIMIT_DEG = 80.0
 
+#: Largest length anywhere in a design, mm (10 m): the FE model's coordinates stay far
+#: from round-off trouble, and any real crawler fits.
+MAX_LENGTH = 1e4
 
-def _positive(name: str, value: float) -> None:
-    if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-        raise InputError(f"{name} must be a positive finite number, got {value!r}")
+#: Largest friction coefficient a design may give: far above any measured pair.
+MAX_MU = 10.0
+
+#: Most time steps a stroke may ask for (at least its duration / solver.dt_max): the
+#: paper run takes about 2,400.
+MAX_STEPS = 1e6
+
+
+def _length(default: float, doc: str, **kw) -> Any:
+    """A positive length up to :data:`MAX_LENGTH` (``doc`` ends in ``, mm``)."""
+    return setting(default, doc, gt=0.0, le=MAX_LENGTH, **kw)
 
 
 @dataclass(frozen=True)
 class Body:
-    """The rigid body: a bar through the bristles' clamps whose segments the actuator shortens.
+    """The rigid body: a bar through the bristles' clamps whose segments the actuator
+    shortens. Each attribute is a declared setting: its meaning, unit and range are the
+    ``[body]`` table's (``bristlecrawler scenario keys``)."""
 
-    Attributes:
-        length: rest distance between the first and the last bristle's body nodes, mm; with
-            :meth:`CrawlerSpec.with_bristles` the bristles are spread evenly over it.
-        mass: total mass of the body, t, shared equally by the body nodes (one above each
-            bristle); the paper's 55 g is 27.5 g at each end.
-        link_length: length of the rigid vertical links from the body nodes down to the
-            bristle clamps, mm (not given in the paper).
-        free_pitch: the body may pitch (rotate in its plane); False keeps it level.
-    """
+    length: float = _length(
+        100.0,
+        "rest distance between the first and the last bristle (the two ends; the "
+        "bristles are spread evenly over it), mm",
+    )
+    mass: float = setting(
+        5.5e-5,
+        "total mass of the body, shared equally by one point mass above each bristle "
+        "(the paper: 55 g, 27.5 g at each end; at most 1 t), t",
+        gt=0.0,
+        le=1.0,
+    )
+    link_length: float = _length(
+        10.0,
+        "rigid vertical links from each end down to a bristle clamp, mm (not given in "
+        "the paper; a studied parameter)",
+    )
+    free_pitch: bool = setting(True, "body free to pitch (else kept level)")
 
-    length: float = 100.0
-    mass: float = 5.5e-5
-    link_length: float = 10.0
-    free_pitch: bool = True
-
-    def check(self) -> None:
-        _positive("body.length", self.length)
-        _positive("body.mass", self.mass)
-        _positive("body.link_length", self.link_length)
+    def check(self, prefix: str = "body.") -> None:
+        """InputError naming the first setting out of its range."""
+        check_settings(self, prefix)
 
 
 @dataclass(frozen=True)
 class Bristle:
-    """A tapered rectangular silicone bristle clamped to the body (paper Section 3).
+    """A tapered rectangular silicone bristle (Shore A 40) clamped to the body at
+    ``alpha_deg`` from the vertical (paper Section 3); linear taper from h0 at the clamp
+    to h1 at the tip. Each attribute but ``position`` is a declared setting of the
+    ``[bristle]`` table (``bristlecrawler scenario keys``)."""
 
-    Attributes:
-        position: place of its clamp along the body from the first body node, mm.
-        alpha_deg: inclination from the vertical, degrees, in (-80, 80); the tip trails
-            (alpha > 0: sliding along the grain is rightward).
-        length: bristle length, mm.
-        width: out-of-plane width b, mm.
-        thickness_clamp: thickness h0 at the clamp, mm.
-        thickness_tip: thickness h1 at the tip, mm (linear taper from h0).
-        youngs_modulus: E, MPa (Shore A 40 silicone: 1.1).
-        poisson_ratio: nu, -.
-        density: rho, t/mm^3 (1.3 g/cm^3 = 1.3e-9).
-        elements: beam elements along the bristle.
-        shear: shear-deformable (Timoshenko-like) elements.
-    """
-
+    #: Place of its clamp along the body from the first body node, mm (a scenario
+    #: spreads ``count`` bristles evenly over the body instead).
     position: float = 0.0
-    alpha_deg: float = 45.0
-    length: float = 5.0
-    width: float = 30.0
-    thickness_clamp: float = 3.0
-    thickness_tip: float = 0.5
-    youngs_modulus: float = 1.1
-    poisson_ratio: float = 0.45
-    density: float = 1.3e-9
-    elements: int = 20
-    shear: bool = True
+    alpha_deg: float = setting(
+        45.0,
+        "inclination from the vertical, degrees; tips trail (positive: sliding "
+        "along the grain is rightward)",
+        gt=-ALPHA_LIMIT_DEG,
+        lt=ALPHA_LIMIT_DEG,
+    )
+    length: float = _length(5.0, "bristle length, mm")
+    width: float = _length(30.0, "out-of-plane width b, mm")
+    thickness_clamp: float = _length(3.0, "thickness at the clamp h0, mm")
+    thickness_tip: float = _length(0.5, "thickness at the tip h1, mm")
+    youngs_modulus: float = setting(1.1, "Young's modulus E, MPa (1e-6 to 1e7)", ge=1e-6, le=1e7)
+    poisson_ratio: float = setting(0.45, "Poisson's ratio, -", gt=-1.0, lt=0.5)
+    density: float = setting(
+        1.3e-9, "mass density, t/mm^3 (1.3 g/cm^3; 1e-15 to 1e-7)", ge=1e-15, le=1e-7
+    )
+    elements: int = setting(20, "beam elements per bristle", ge=2, le=2000, structural=True)
+    shear: bool = setting(True, "shear-deformable (Timoshenko-like) beam", structural=True)
 
     @property
     def alpha(self) -> float:
@@ -125,133 +139,158 @@ class Bristle:
         mean_h = 0.5 * (self.thickness_clamp + self.thickness_tip)
         return self.density * self.width * self.length * mean_h
 
-    def check(self, where: str) -> None:
-        for name in ("length", "width", "thickness_clamp", "thickness_tip"):
-            _positive(f"{where}.{name}", getattr(self, name))
-        for name in ("youngs_modulus", "density"):
-            _positive(f"{where}.{name}", getattr(self, name))
-        if not -1.0 < self.poisson_ratio < 0.5:
-            raise InputError(
-                f"{where}.poisson_ratio must be in (-1, 0.5), got {self.poisson_ratio}"
-            )
-        a = self.alpha_deg
-        if not (math.isfinite(a) and -ALPHA_LIMIT_DEG < a < ALPHA_LIMIT_DEG):
-            raise InputError(
-                f"{where}.alpha_deg must be in (-{ALPHA_LIMIT_DEG:g}, {ALPHA_LIMIT_DEG:g}) "
-                f"degrees, got {a}"
-            )
-        if not (isinstance(self.elements, int) and 2 <= self.elements <= 2000):
-            raise InputError(f"{where}.elements must be a whole number in [2, 2000]")
+    def check(self, prefix: str = "bristle.") -> None:
+        """InputError naming the first setting out of its range, or a tip thicker than
+        the clamp (settings named with ``prefix``)."""
+        check_settings(self, prefix)
         if not math.isfinite(self.position):
-            raise InputError(f"{where}.position must be finite, got {self.position}")
+            raise InputError(f"{prefix}position must be finite, got {self.position}")
+        if self.thickness_tip > self.thickness_clamp:
+            # The bristle tapers from its clamp: a thicker tip is a typo, not a design.
+            raise InputError(
+                f"{prefix}thickness_tip ({self.thickness_tip:g} mm) must not exceed "
+                f"{prefix}thickness_clamp ({self.thickness_clamp:g} mm): the bristle "
+                "tapers from its clamp"
+            )
 
 
 @renamed(max_penetration="penetration_limit")
 @dataclass(frozen=True)
 class Contact:
-    """Contact of the bristles with the rigid substrate (penalty Coulomb friction).
+    """Contact of the bristles with the rigid substrate (penalty Coulomb friction). Each
+    attribute is a declared setting of the ``[contact]`` table (``bristlecrawler scenario
+    keys``); ``max_penetration``, the name of ``penetration_limit`` before, is still taken
+    with a DeprecationWarning."""
 
-    Attributes:
-        mu: Coulomb friction coefficient bristle/substrate, -.
-        nodes: "tip" (the tips only) or "all" (every bristle node).
-        surface: contact points on both faces of the beam (h/2 from the axis, turning with
-            the section) rather than on its axis.
-        discs: with ``surface`` off, each axis point is a disc of radius h/2.
-        corners: the substrate's convex corners against both faces of every element,
-            where it has any (a plane has none, and gets no corner term).
-        penalty_load: load (N) at which penetration stays below 1e-3 mm and the stick drift
-            below ``stick_drift``; None: the weight on one bristle.
-        stick_drift: elastic tangential displacement in stick at the friction limit of the
-            penalty load, mm.
-        active_points: broad phase, contact points evaluated per Newton iteration (the
-            ones reaching lowest); None: every point.
-        penetration_limit: a step that converges deeper than this (mm) is cut (the
-            penalty's own design penetration is 1e-3 mm at ``penalty_load``);
-            ``max_penetration`` before, still taken with a DeprecationWarning.
-    """
+    mu: float = setting(
+        0.65,
+        "Coulomb friction coefficient bristle/substrate, dimensionless",
+        ge=0.0,
+        le=MAX_MU,
+    )
+    nodes: Literal["tip", "all"] = setting(
+        "all",
+        "contact nodes: the bristle tips only, or every bristle node",
+        structural=True,
+    )
+    surface: bool = setting(
+        True,
+        "contact points on both faces of the beam (h/2 from the axis, turning "
+        "with the section) rather than on its axis",
+        structural=True,
+    )
+    discs: bool = setting(
+        False,
+        "with surface = false: each axis contact point is a disc of radius h/2 "
+        "(the local half thickness), so the faces rather than the axis touch flat parts of "
+        "the substrate; friction acts on the node's translation (no moment)",
+        structural=True,
+    )
+    corners: bool = setting(
+        True,
+        "corner-to-face contact: the substrate's convex corners (land edges), "
+        "where it has any (a flat substrate has none), against both faces of every bristle "
+        "element, so a sharp corner cannot pass between contact points",
+        structural=True,
+    )
+    penalty_load: float | None = setting(
+        None,
+        "penalty load, N: the normal penalty keeps penetration below 1e-3 mm and "
+        "the stick drift below contact.stick_drift at this load; null: the weight on one "
+        "bristle",
+        gt=0.0,
+        le=1e6,
+        none=True,
+    )
+    stick_drift: float = setting(
+        1e-4,
+        "elastic tangential displacement in stick at the friction limit of the "
+        "penalty load, mm (sets the stick penalty k_t = mu load / stick_drift). `paper` "
+        "sets 1e-3 mm: the same gait as 1e-4 mm in 40 % fewer Newton iterations. "
+        "`paper-vertical` keeps 1e-4 mm: with 1e-3, at the end of its 0.5 s gravity step "
+        "each tip stands on one face point and the settled state is unstable (a negative "
+        "lowest eigenvalue of the tangent)",
+        gt=0.0,
+        le=1.0,
+    )
+    active_points: int | None = setting(
+        16,
+        "broad phase: contact points evaluated per Newton iteration, the ones "
+        "reaching lowest (the corner term is separate). Exact while at most this many "
+        "points reach below the substrate's top (the paper run has up to 7); a run where "
+        "more do stops with an error naming this parameter. null: every point",
+        ge=1,
+        le=100_000,
+        none=True,
+        structural=True,
+    )
+    penetration_limit: float = setting(
+        0.025,
+        "deepest contact penetration of a converged time step, mm: a deeper one "
+        "is rejected and cut, since a land corner that reaches the middle of the 0.5 mm "
+        "tip is pushed out through the wrong face (25 times the design penetration; inf: "
+        "no limit)",
+        gt=0.0,
+        inf=True,
+        structural=True,
+    )
 
-    mu: float = 0.65
-    nodes: Literal["tip", "all"] = "all"
-    surface: bool = True
-    discs: bool = False
-    corners: bool = True
-    penalty_load: float | None = None
-    stick_drift: float = 1e-4
-    active_points: int | None = 16
-    penetration_limit: float = 0.025
-
-    def check(self) -> None:
-        if not (math.isfinite(self.mu) and self.mu >= 0):
-            raise InputError(f"contact.mu must be a finite number >= 0, got {self.mu}")
-        if self.nodes not in ("tip", "all"):
-            raise InputError(f"contact.nodes must be 'tip' or 'all', got {self.nodes!r}")
-        _positive("contact.stick_drift", self.stick_drift)
-        if self.penalty_load is not None:
-            _positive("contact.penalty_load", self.penalty_load)
-        if not self.penetration_limit > 0:
-            raise InputError(
-                f"contact.penetration_limit must be > 0 mm, got {self.penetration_limit}"
-            )
-        if self.active_points is not None and self.active_points < 1:
-            raise InputError(f"contact.active_points must be >= 1, got {self.active_points}")
+    def check(self, prefix: str = "contact.") -> None:
+        """InputError naming the first setting out of its range."""
+        check_settings(self, prefix)
 
 
 @dataclass(frozen=True)
 class Damping:
-    """Rayleigh damping C = a0 M + a1 K.
+    """Rayleigh damping C = a0 M + a1 K: by default mass-proportional with a ratio at the
+    first resonance. Each attribute is a declared setting of the ``[damping]`` table."""
 
-    Attributes:
-        kind: "mass" or "stiffness" (the ratio is met at the first resonance after the
-            gravity step, by modal analysis), or "explicit" (a0, a1 as given).
-        ratio: damping ratio at that frequency, -.
-        a0: explicit mass coefficient, 1/s.
-        a1: explicit stiffness coefficient, s.
-    """
-
-    kind: Literal["mass", "stiffness", "explicit"] = "mass"
-    ratio: float = 0.15
-    a0: float = 0.0
-    a1: float = 0.0
+    kind: Literal["mass", "stiffness", "explicit"] = setting(
+        "mass",
+        "Rayleigh damping proportional to the mass or to the stiffness, with "
+        "the ratio at the first resonance of the settled crawler; or 'explicit' a0, a1",
+        structural=True,
+    )
+    ratio: float = setting(0.15, "damping ratio at the reference frequency, -", ge=0.0, lt=1.0)
+    a0: float = setting(0.0, "explicit mass coefficient, 1/s", ge=0.0, le=1e6)
+    a1: float = setting(0.0, "explicit stiffness coefficient, s", ge=0.0, le=1e3)
 
     @property
     def stiffness_proportional(self) -> bool:
         """Whether the programs need the a1 K v product."""
         return self.kind == "stiffness" or (self.kind == "explicit" and self.a1 != 0.0)
 
-    def check(self) -> None:
-        if self.kind not in ("mass", "stiffness", "explicit"):
-            raise InputError(f"damping.kind must be mass, stiffness or explicit, got {self.kind!r}")
-        if not 0.0 <= self.ratio < 1.0:
-            raise InputError(f"damping.ratio must be in [0, 1), got {self.ratio}")
-        for name in ("a0", "a1"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0):
-                raise InputError(f"damping.{name} must be a finite number >= 0, got {v}")
+    def check(self, prefix: str = "damping.") -> None:
+        """InputError naming the first setting out of its range."""
+        check_settings(self, prefix)
 
 
 @dataclass(frozen=True)
 class Actuation:
-    """The prescribed shortening of every body segment after the gravity step.
+    """The prescribed shortening of every body segment after the gravity step (step 2).
+    Each attribute but ``history`` is a declared setting of the ``[actuation]`` table.
 
-    Attributes:
-        s_max: peak shortening s~ of each segment, mm (sin^2 stroke).
-        period: cycle period T, s.
-        cycles: number of strokes.
-        settle_time: duration of the gravity step before the stroke, s.
-        history: a sampled shortening (times s, shortenings mm, from t = 0) used instead of
-            the sin^2 stroke; None: ``s(t) = s_max sin^2(pi t / T)``.
-        gait: "breathing" (every segment follows s(t) together) or "peristaltic" (segment j
-            follows s(t - j lag)); as in the reduced model.
-        lag: delay between neighbouring segments of a peristaltic gait, s (>= 0).
+    ``history``: a sampled shortening (times s, shortenings mm, from t = 0) used instead
+    of the sin^2 stroke ``s(t) = s_max sin^2(pi t / T)``; None: the sin^2 stroke (a
+    scenario names a CSV file instead, ``actuation.history``).
     """
 
-    s_max: float = 20.0
-    period: float = 20.0
-    cycles: int = 5
-    settle_time: float = 0.5
+    s_max: float = _length(20.0, "peak shortening s~ of each body segment, mm")
+    period: float = setting(20.0, "cycle period T, s (1e-3 to 1e5)", ge=1e-3, le=1e5)
+    cycles: int = setting(5, "number of cycles", ge=1, le=10_000)
+    settle_time: float = setting(0.5, "step 1 (gravity) duration, s", gt=0.0, le=1e4)
     history: tuple[tuple[float, ...], tuple[float, ...]] | None = None
-    gait: Literal["breathing", "peristaltic"] = "breathing"
-    lag: float = 0.0
+    gait: Literal["breathing", "peristaltic"] = setting(
+        "breathing",
+        "breathing: every segment follows s(t) together; peristaltic: segment j "
+        "follows s(t - j lag) (with more than two bristles)",
+    )
+    lag: float = setting(
+        0.0,
+        "delay between neighbouring segments of a peristaltic gait, s",
+        ge=0.0,
+        le=1e5,
+    )
 
     @property
     def peak(self) -> float:
@@ -269,23 +308,16 @@ class Actuation:
         one = self.history[0][-1] if self.history is not None else self.cycles * self.period
         return float(one) + max(self.delays(segments))
 
-    def check(self) -> None:
-        if self.history is None:
-            _positive("actuation.s_max", self.s_max)
-            _positive("actuation.period", self.period)
-        else:
+    def check(self, prefix: str = "actuation.") -> None:
+        """InputError naming the first setting out of its range, or a history that is
+        not a stroke from t = 0."""
+        check_settings(self, prefix)
+        if self.history is not None:
             t, s = (np.asarray(a, dtype=float) for a in self.history)
             if t.size < 2 or t.shape != s.shape or not np.all(np.diff(t) > 0):
-                raise InputError("actuation.history needs >= 2 samples with increasing times")
+                raise InputError(f"{prefix}history needs >= 2 samples with increasing times")
             if not (np.all(np.isfinite(s)) and t[0] == 0.0):
-                raise InputError("actuation.history must start at t = 0 with finite values")
-        if not (isinstance(self.cycles, int) and self.cycles >= 1):
-            raise InputError(f"actuation.cycles must be a whole number >= 1, got {self.cycles!r}")
-        _positive("actuation.settle_time", self.settle_time)
-        if self.gait not in ("breathing", "peristaltic"):
-            raise InputError(f"actuation.gait must be breathing or peristaltic, got {self.gait!r}")
-        if not (math.isfinite(self.lag) and self.lag >= 0):
-            raise InputError(f"actuation.lag must be a finite number >= 0 s, got {self.lag}")
+                raise InputError(f"{prefix}history must start at t = 0 with finite values")
 
 
 def _paper_substrate():
@@ -317,7 +349,12 @@ class CrawlerSpec:
     damping: Damping = field(default_factory=Damping)
     actuation: Actuation = field(default_factory=Actuation)
     solver: Solver = field(default_factory=Solver)
-    gravity: float = 9810.0
+    gravity: float = setting(
+        9810.0,
+        "gravitational acceleration, mm/s^2 (0 only with contact.penalty_load)",
+        ge=0.0,
+        le=1e6,
+    )
     name: str = "custom"
 
     @classmethod
@@ -356,21 +393,55 @@ class CrawlerSpec:
         )
 
     def check(self) -> None:
-        """Raise :class:`InputError` (one line) for a design that cannot be built."""
+        """Raise :class:`InputError` (one line) for a design that cannot be built or a
+        stroke it cannot make: :meth:`check_design`, then :meth:`check_stroke`. Every
+        rule on a design lives here or in its parts' ``check``; the scenario schema runs
+        these same checks."""
+        self.check_design()
+        self.check_stroke()
+
+    def check_design(self) -> None:
+        """InputError for a design that cannot be built, whatever its stroke: a setting
+        out of its range, bristles out of place, no weight, a bristle that cannot carry
+        its share of it."""
         self.body.check()
         if len(self.bristles) < 2:
             raise InputError(f"a crawler needs at least 2 bristles, got {len(self.bristles)}")
         for i, b in enumerate(self.bristles):
-            b.check(f"bristles[{i}]")
+            b.check(f"bristles[{i}].")
         self._check_positions()
         for part in (self.contact, self.damping, self.actuation, self.solver):
             part.check()
-        if not (math.isfinite(self.gravity) and self.gravity >= 0):
-            raise InputError(f"gravity must be a finite number >= 0 mm/s^2, got {self.gravity}")
-        self._check_stroke()
+        check_settings(self)
+        if self.gravity == 0 and self.contact.penalty_load is None:
+            raise InputError(
+                "gravity = 0 leaves no weight to press the bristles on the substrate and to "
+                "size the contact penalty: give gravity > 0 or contact.penalty_load (N)"
+            )
         from bristlecrawler.crawler.support import check_support
 
         check_support(self)
+
+    def check_stroke(self) -> None:
+        """InputError for a stroke the design cannot make: a peak shortening of the body
+        length or more, bristles brought into each other (:meth:`check_clearance`), or
+        more than :data:`MAX_STEPS` time steps of ``solver.dt_max``."""
+        peak, length = self.actuation.peak, self.body.length
+        if peak >= length:
+            what = "actuation.s_max" if self.actuation.history is None else "history: shortening"
+            raise InputError(
+                f"{what} ({peak:g} mm) must be smaller than the body length ({length:g} mm)"
+            )
+        self.check_clearance(peak)
+        duration = self.actuation.stroke_duration(self.segments)
+        steps = duration / self.solver.dt_max
+        if steps > MAX_STEPS:
+            raise InputError(
+                f"the stroke ({duration:.3g} s) takes at least {steps:.3g} time steps of "
+                f"solver.dt_max = {self.solver.dt_max:g} s, more than {MAX_STEPS:g}: shorten "
+                "the run (actuation.cycles, actuation.period, the history) or raise "
+                "solver.dt_max"
+            )
 
     def _check_positions(self) -> None:
         xs = [b.position for b in self.bristles]
@@ -386,9 +457,6 @@ class CrawlerSpec:
                     f"bristles[{i}].position = {xs[i]:g} mm must be beyond bristles[{i - 1}] "
                     f"({xs[i - 1]:g} mm): two bristles at one place, or out of order"
                 )
-
-    def _check_stroke(self) -> None:
-        self.check_clearance(self.actuation.peak)
 
     def check_clearance(self, peak: float) -> None:
         """InputError if a shortening of ``peak`` (mm) of a segment brings its two bristles
@@ -411,7 +479,7 @@ class CrawlerSpec:
             room = gap + ext_b[0] - ext_a[1] - 0.5 * (a.thickness_clamp + b.thickness_clamp)
             if not peak < room:
                 raise InputError(
-                    f"actuation: a peak shortening of {peak:g} mm (actuation.s_max or the "
+                    f"a peak shortening of {peak:g} mm (actuation.s_max or the "
                     f"history) brings bristles {i} and {i + 1} into each other: their "
                     f"clamps come {gap - peak:g} mm apart, and they overlap unless that "
                     f"exceeds their reach along the body and clamps, {gap - room:.3g} mm "

@@ -14,38 +14,31 @@ and the substrate's kind.
 from __future__ import annotations
 
 import dataclasses
+import typing
 
 import numpy as np
 
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.options import structural_settings
 
-#: Spec keys that are part of the compiled programs; a prefix ending in "." takes a group.
+
+def _sections() -> dict[str, type]:
+    """The spec's option groups by the name their keys start with (``bristle.``)."""
+    hints = typing.get_type_hints(CrawlerSpec)
+    out = {"bristle": typing.get_args(hints["bristles"])[0]}
+    out |= {name: kind for name, kind in hints.items() if dataclasses.is_dataclass(kind)}
+    return out
+
+
+#: Spec keys that are part of the compiled programs: the settings declared structural
+#: (:func:`fe.options.setting`), and the forms that are not one setting (how many
+#: bristles, which substrate kind, which form of stroke).
 STRUCTURE_KEYS = (
     "bristle count",
-    "bristle.elements",
-    "bristle.shear",
     "substrate kind",
-    "contact.nodes",
-    "contact.surface",
-    "contact.discs",
-    "contact.corners",
-    "contact.active_points",
-    "contact.penetration_limit",
-    "damping.kind",
     "stroke form",
-    "solver.hht_alpha",
-    "solver.tolerance",
-    "solver.max_iterations",
-    "solver.stall_iterations",
-    "solver.freeze_iterations",
-    "solver.line_search",
-    "solver.predictor",
-    "solver.energy_tol",
-    "solver.energy_loss_tol",
-    "solver.max_correction",
-    "solver.grow",
-    "solver.easy_iterations",
+    *(key for name, cls in _sections().items() for key in structural_settings(cls, f"{name}.")),
 )
 
 

@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.options import check_settings, setting
 from bristlecrawler.fe.status import STEP_ERROR, STEP_TOO_SMALL, SUCCESS, is_fatal
 
 
@@ -37,17 +38,21 @@ class StepControl:
     (``[solver] grow, easy_iterations``). Hashable, so it is part of the drivers'
     caches."""
 
-    grow: float = 1.5
-    easy_iterations: int = 4
+    grow: float = setting(
+        1.5, "factor a step grows by after an easy one, - (1: never grows)", ge=1.0, le=10.0
+    )
+    easy_iterations: int = setting(
+        4,
+        "a step that took at most this many Newton iterations is easy: the next one grows",
+        ge=0,
+        le=1000,
+    )
 
     def __post_init__(self) -> None:
-        if not self.grow >= 1.0:
-            raise InputError(f"step control: grow must be >= 1, got {self.grow}")
-        if not (isinstance(self.easy_iterations, int) and self.easy_iterations >= 0):
-            raise InputError(
-                f"step control: easy_iterations must be a whole number >= 0, got "
-                f"{self.easy_iterations!r}"
-            )
+        try:
+            check_settings(self)
+        except InputError as exc:
+            raise InputError(f"step control: {exc}") from None
 
     def next_dt(self, dt, h, good, easy, dt_max):
         """The next step: ``dt`` (s) grown (within ``dt_max``) after an ``easy`` ``good``

@@ -22,8 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -31,7 +30,7 @@ import numpy as np
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import banded
-from bristlecrawler.fe.options import renamed
+from bristlecrawler.fe.options import check_settings, renamed, setting
 from bristlecrawler.fe.status import MAX_ITERATIONS, NONFINITE, STALLED, SUCCESS
 
 
@@ -66,40 +65,42 @@ class NewtonOptions:
     DeprecationWarning.
     """
 
-    tolerance: float = 1e-9
-    atol: float = 0.0
-    max_iterations: int = 12
-    line_search: str = "growth"
-    stall_iterations: int = 0
-    freeze_iterations: int = 0
-    max_correction: float = math.inf
-    xtol: float = 1e-13
-    max_backtracks: int = 8
-    growth: float = 1e6
+    tolerance: float = setting(
+        1e-9, "Newton tolerance on the relative residual, -", ge=0.0, inf=True
+    )
+    atol: float = setting(0.0, "absolute residual tolerance, N", inf=True)
+    max_iterations: int = setting(12, "Newton iterations per solve", ge=1)
+    line_search: Literal["growth", "monotone"] = setting(
+        "growth",
+        "halve a correction only against blow-ups ('growth') or until the residual "
+        "decreases ('monotone')",
+    )
+    stall_iterations: int = setting(
+        0, "iterations without the residual halving before giving up (0: off)", ge=0
+    )
+    freeze_iterations: int = setting(
+        0, "first iterations that keep the contact statuses frozen (0: off)", ge=0
+    )
+    max_correction: float = setting(
+        math.inf,
+        "largest translation of a correction's first trial, mm (inf: off)",
+        gt=0.0,
+        inf=True,
+    )
+    xtol: float = setting(1e-13, "converged below this relative correction, -", inf=True)
+    max_backtracks: int = setting(8, "halvings of one correction")
+    growth: float = setting(1e6, "the growth search's bound on |R_new| / |R|, -", inf=True)
 
     def __post_init__(self) -> None:
+        # max_iterations >= 1 is also required by the predictor: iteration 0 must run,
+        # since the start's residual comes from its linearisation.
+        check_settings(self)
         n = self.max_iterations
-        if not (isinstance(n, numbers.Integral) and n >= 1):
-            # Also required by the predictor: iteration 0 must run, since the start's
-            # residual comes from its linearisation.
-            raise InputError(f"max_iterations must be a whole number >= 1, got {n!r}")
-        if not (isinstance(self.freeze_iterations, int) and 0 <= self.freeze_iterations < n):
+        if not self.freeze_iterations < n:
             raise InputError(
-                f"freeze_iterations must be a whole number in [0, max_iterations = {n}), "
+                f"freeze_iterations must be below max_iterations = {n}, "
                 f"got {self.freeze_iterations!r}"
             )
-        if not (isinstance(self.stall_iterations, int) and self.stall_iterations >= 0):
-            raise InputError(
-                f"stall_iterations must be a whole number >= 0, got {self.stall_iterations!r}"
-            )
-        if self.line_search not in ("growth", "monotone"):
-            raise InputError(
-                f"line_search must be 'growth' or 'monotone', got {self.line_search!r}"
-            )
-        if not self.tolerance >= 0.0:  # also NaN
-            raise InputError(f"tolerance must be >= 0, got {self.tolerance}")
-        if not self.max_correction > 0.0:  # also NaN
-            raise InputError(f"max_correction must be > 0 mm, got {self.max_correction}")
 
 
 #: The defaults, as a default argument.

@@ -10,10 +10,14 @@ import dataclasses
 import functools
 import math
 import numbers
+import typing
 import warnings
-from typing import Any
+from typing import Any, Literal
 
 from bristlecrawler.errors import InputError
+
+#: The default of a setting that has none: the table must give it.
+REQUIRED: Any = dataclasses.MISSING
 
 
 def setting(
@@ -23,37 +27,124 @@ def setting(
     ge: float | None = None,
     gt: float | None = None,
     le: float | None = None,
+    lt: float | None = None,
     inf: bool = False,
+    none: bool = False,
+    structural: bool = False,
 ) -> Any:
     """A dataclass field with its meaning (``doc``, ending in ``, unit``) and its valid
-    range (``ge``/``gt`` below, ``le`` above; ``inf``: infinity allowed, meaning off).
-    Words (a ``Literal`` annotation) need no range."""
-    bounds = {k: v for k, v in (("ge", ge), ("gt", gt), ("le", le)) if v is not None}
-    return dataclasses.field(default=default, metadata={"doc": doc, "bounds": bounds, "inf": inf})
+    range (``ge``/``gt`` below, ``le``/``lt`` above; ``inf``: infinity allowed, meaning
+    off; ``none``: None allowed, meaning the documented fallback). Words (a ``Literal``
+    annotation) need no range. ``structural``: the setting shapes the compiled programs,
+    so designs that differ in it cannot share one (see :func:`structural_settings`).
+    ``default`` :data:`REQUIRED`: no default."""
+    bounds = {k: v for k, v in (("ge", ge), ("gt", gt), ("le", le), ("lt", lt)) if v is not None}
+    meta = {"doc": doc, "bounds": bounds, "inf": inf, "none": none, "structural": structural}
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def setting_of(
+    owner: type,
+    name: str,
+    *,
+    default: Any = REQUIRED,
+    why: str = "",
+    doc: str | None = None,
+    structural: bool | None = None,
+    **bounds: float,
+) -> Any:
+    """The setting ``name`` of the options class ``owner`` declared again for another
+    options object that hands it on (the crawler's ``[solver]`` table to
+    :class:`NewtonOptions`): the same setting, with its meaning reworded (``doc``), its
+    range narrowed (``bounds``: ``ge``, ``gt``, ``le``, ``lt``), and a default of its own
+    only with the reason (``why``), which :func:`own_defaults` lists."""
+    base = next(f for f in dataclasses.fields(owner) if f.name == name)
+    meta = dict(base.metadata)
+    inf = bounds.pop("inf", None)
+    meta["bounds"] = {**meta["bounds"], **bounds}
+    if inf is not None:
+        meta["inf"] = bool(inf)
+    if doc is not None:
+        meta["doc"] = doc
+    if structural is not None:
+        meta["structural"] = structural
+    value = base.default if default is REQUIRED else default
+    if value != base.default:
+        if not why:
+            raise TypeError(f"{owner.__name__}.{name}: a default of its own needs its reason")
+        meta["own_default"] = (base.default, why)
+    return dataclasses.field(default=value, metadata=meta)
+
+
+def own_defaults(cls: type) -> dict[str, tuple[Any, Any, str]]:
+    """name -> (this default, the default of the options class it hands the setting on
+    to, why they differ), for each setting of ``cls`` declared with a default of its own
+    (:func:`setting_of`)."""
+    return {
+        f.name: (f.default, *f.metadata["own_default"])
+        for f in settings_of(cls)
+        if "own_default" in f.metadata
+    }
+
+
+def settings_of(cls: type) -> list[dataclasses.Field]:
+    """The fields of a dataclass that are declared with :func:`setting`."""
+    return [f for f in dataclasses.fields(cls) if "bounds" in f.metadata]
+
+
+def structural_settings(cls: type, prefix: str = "") -> tuple[str, ...]:
+    """The names (with ``prefix``) of the settings of ``cls`` declared structural."""
+    return tuple(f"{prefix}{f.name}" for f in settings_of(cls) if f.metadata["structural"])
+
+
+def _words(annotation: Any) -> tuple | None:
+    """The allowed words of a ``Literal`` annotation (or ``Literal | None``), else None."""
+    if typing.get_origin(annotation) is Literal:
+        return typing.get_args(annotation)
+    for arg in typing.get_args(annotation):
+        if typing.get_origin(arg) is Literal:
+            return typing.get_args(arg)
+    return None
+
+
+def _bound_error(name: str, v: float, b: dict, inf: bool) -> str | None:
+    ops = {"ge": (">=", v >= b.get("ge", 0)), "gt": (">", v > b.get("gt", 0))}
+    ops |= {"le": ("<=", v <= b.get("le", 0)), "lt": ("<", v < b.get("lt", 0))}
+    for key, (op, ok) in ops.items():
+        if key in b and not ok and not (key in ("le", "lt") and math.isinf(v) and inf):
+            return f"{name} must be {op} {b[key]:g}, got {v:g}"
+    return None
 
 
 def check_settings(obj: Any, prefix: str = "") -> None:
     """InputError naming the first setting of ``obj`` outside its declared range (whole
-    numbers for ``int`` fields; NaN never; infinity only where declared)."""
-    for f in dataclasses.fields(obj):
-        if "bounds" not in f.metadata:
-            continue
+    numbers for ``int`` fields; NaN never; infinity only where declared; None only where
+    declared; one of the words of a ``Literal`` field)."""
+    hints = typing.get_type_hints(type(obj))
+    for f in settings_of(type(obj)):
         v, name = getattr(obj, f.name), f"{prefix}{f.name}"
-        if isinstance(f.default, bool) or isinstance(v, str):
+        words = _words(hints[f.name])
+        if v is None and f.metadata["none"]:
             continue
-        if isinstance(f.default, int) and not isinstance(v, numbers.Integral):
+        if words is not None:
+            if v not in words:
+                raise InputError(f"{name} must be one of {', '.join(map(str, words))}, got {v!r}")
+            continue
+        if hints[f.name] is bool or isinstance(v, str) or isinstance(f.default, bool):
+            continue
+        if _is_int(hints[f.name]) and not isinstance(v, numbers.Integral):
             raise InputError(f"{name} must be a whole number, got {v!r}")
-        if not isinstance(v, numbers.Real) or math.isnan(v):
+        if not isinstance(v, numbers.Real) or isinstance(v, bool) or math.isnan(v):
             raise InputError(f"{name} must be a number, got {v!r}")
         if math.isinf(v) and not f.metadata["inf"]:
             raise InputError(f"{name} must be finite, got {v}")
-        b = f.metadata["bounds"]
-        if "ge" in b and not v >= b["ge"]:
-            raise InputError(f"{name} must be >= {b['ge']:g}, got {v:g}")
-        if "gt" in b and not v > b["gt"]:
-            raise InputError(f"{name} must be > {b['gt']:g}, got {v:g}")
-        if "le" in b and not v <= b["le"] and not (math.isinf(v) and f.metadata["inf"]):
-            raise InputError(f"{name} must be <= {b['le']:g}, got {v:g}")
+        message = _bound_error(name, v, f.metadata["bounds"], f.metadata["inf"])
+        if message:
+            raise InputError(message)
+
+
+def _is_int(annotation: Any) -> bool:
+    return annotation is int or int in typing.get_args(annotation)
 
 
 def _warn(cls_name: str, old: str, new: str) -> None:

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from bristlecrawler.crawler.history import CrawlerHistory
-from bristlecrawler.errors import InputError, printable
+from bristlecrawler.errors import printable
 from bristlecrawler.scenario.schema import Scenario
 
 
@@ -74,21 +74,6 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
     summary = h.summary()
     summary["warnings"] = summary["warnings"] + quality_warnings(h.energy_balance_rel_error(), sc)
     return summary
-
-
-def check_stroke(sc: Scenario, duration: float) -> None:
-    """InputError if the stroke (of ``duration`` s) makes the bristles overlap or needs too
-    many time steps: the schema's checks, for a history whose peak it cannot know."""
-    from bristlecrawler.scenario.schema import check_bristles_clear, check_step_count
-
-    try:
-        check_step_count(sc, duration)
-        if sc.actuation.kind == "history":
-            from bristlecrawler.reduced.strokes import read_history_csv
-
-            check_bristles_clear(sc, read_history_csv(sc.actuation.history).s_max)
-    except ValueError as exc:
-        raise InputError(str(exc)) from None
 
 
 def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:
@@ -144,7 +129,6 @@ def run_simulation(
     from bristlecrawler.scenario.convert import to_spec
 
     spec = to_spec(sc)  # reads and checks a history file, checks the design: before any work
-    check_stroke(sc, spec.actuation.stroke_duration(spec.segments))
     if not write:
         _started(on_start)
         h = solve(spec, progress)

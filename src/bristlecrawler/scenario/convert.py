@@ -2,21 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 
 import numpy as np
 
-from bristlecrawler.crawler.spec import (
-    Actuation,
-    Body,
-    Bristle,
-    Contact,
-    CrawlerSpec,
-    Damping,
-    Solver,
-    uniform_bristles,
-)
-from bristlecrawler.errors import InputError
+from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.scenario.schema import Scenario
 
 
@@ -34,38 +25,20 @@ def _history(sc: Scenario) -> tuple[tuple[float, ...], tuple[float, ...]] | None
 
         st = run_sma(SMAActuator(s_target=a.s_max), a.cycles).stroke()
     t, s = np.asarray(st.t, dtype=float), np.asarray(st.s, dtype=float)
-    if float(np.max(s)) >= sc.body.length:
-        raise InputError(f"history: shortening {float(np.max(s)):g} mm reaches the body length")
     return tuple((t - t[0]).tolist()), tuple(s.tolist())
 
 
 def to_spec(sc: Scenario) -> CrawlerSpec:
     """The :class:`CrawlerSpec` of a validated scenario (reads a history file, runs the SMA
-    actuator model for ``kind = "sma"``); raises a one-line InputError for a design that
-    cannot be built."""
-    br = sc.bristle
-    template = Bristle(**br.model_dump(exclude={"count"}))
-    a = sc.actuation
-    spec = CrawlerSpec(
-        body=Body(**sc.body.model_dump()),
-        bristles=uniform_bristles(br.count, sc.body.length, template),
-        substrate=sc.substrate.build(),
-        contact=Contact(**sc.contact.model_dump()),
-        damping=Damping(**sc.damping.model_dump()),
-        actuation=Actuation(
-            s_max=a.s_max,
-            period=a.period,
-            cycles=a.cycles,
-            settle_time=a.settle_time,
-            history=_history(sc),
-            gait=a.gait,
-            lag=a.lag,
-        ),
-        solver=Solver(**sc.solver.model_dump()),
-        gravity=sc.gravity,
-        name=sc.name,
-    )
-    spec.check()
+    actuator model for ``kind = "sma"``); raises a one-line InputError for a stroke the
+    design cannot make (the scenario's validation checked the rest)."""
+    spec = sc.design()
+    history = _history(sc)
+    if history is None:
+        return spec
+    spec = dataclasses.replace(spec, actuation=dataclasses.replace(spec.actuation, history=history))
+    spec.actuation.check()
+    spec.check_stroke()
     return spec
 
 

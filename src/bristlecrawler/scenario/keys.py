@@ -1,4 +1,5 @@
-"""Every key of a scenario file, read from the schema: its unit, default and meaning.
+"""Every key of a scenario file, read from the schema: its unit, default and meaning,
+and whether it is structural (designs that differ in it need their own compiled program).
 
 ``bristlecrawler scenario keys`` prints this table, and the documentation's scenario
 reference is generated from it, so neither can drift from the schema. The ``paper``
@@ -73,6 +74,9 @@ class Key:
     paper: Any  #: the shipped ``paper`` scenario's value (:data:`NA` where it has none)
     meaning: str  #: the field's description, without its unit
     kind: str = ""  #: the substrate kind the key belongs to (``""`` for other sections)
+    #: whether the key shapes the compiled programs: designs that differ in it cannot
+    #: run side by side in one batch (see :mod:`bristlecrawler.crawler.structure`)
+    structural: bool = False
 
 
 def unit_of(description: str) -> str:
@@ -91,14 +95,20 @@ def field_meaning(description: str, unit: str) -> str:
     return text[:1].upper() + text[1:] if text else ""
 
 
+def is_structural(field: Any) -> bool:
+    """Whether a schema field comes from a setting declared structural."""
+    extra = field.json_schema_extra
+    return isinstance(extra, dict) and bool(extra.get("structural"))
+
+
 def _type_name(annotation: Any) -> str:
     origin = typing.get_origin(annotation)
     if origin is Literal:
         return " | ".join(f'"{a}"' for a in typing.get_args(annotation))
     args = [a for a in typing.get_args(annotation) if a is not type(None)]
-    if origin is not None and args and origin is not list:
+    if origin is not None and args and origin not in (list, tuple):
         return _type_name(args[0])  # X | None
-    if origin is list:
+    if origin in (list, tuple):
         return "list of [x, y]"
     return getattr(annotation, "__name__", str(annotation))
 
@@ -125,6 +135,7 @@ def _rows(model: type[BaseModel], prefix: str, defaults: Any, paper: Any, kind: 
             paper=NA if paper is None else getattr(paper, name, NA),
             meaning=field_meaning(field.description or "", unit),
             kind=kind,
+            structural=is_structural(field),
         )
 
 
@@ -152,6 +163,7 @@ def scenario_keys() -> list[Key]:
                     False,
                     paper.substrate.kind,
                     "Texture of the rigid substrate; the other substrate keys depend on it",
+                    structural=True,
                 )
             )
             for kind, model in SUBSTRATE_KINDS.items():
@@ -179,6 +191,7 @@ def _rows_top(name, field, default, paper):
             False,
             getattr(paper, name),
             field_meaning(field.description or "", unit),
+            structural=is_structural(field),
         )
     ]
 
@@ -226,8 +239,8 @@ def keys_markdown(keys: list[Key] | None = None) -> str:
             elif k.key == "substrate.kind":
                 title = "`[substrate]`"
             out += ["", f"### {title}", ""]
-            out.append("| key | type | unit | default | `paper` | meaning |")
-            out.append("|---|---|---|---|---|---|")
+            out.append("| key | type | unit | default | `paper` | meaning | structural |")
+            out.append("|---|---|---|---|---|---|---|")
         default = "required" if k.required else f"`{toml_value(k.default)}`"
         paper = "" if k.paper is NA else f"`{toml_value(k.paper)}`"
         if differs(k):
@@ -235,7 +248,10 @@ def keys_markdown(keys: list[Key] | None = None) -> str:
         typ = k.type.replace("|", "\\|")
         name = k.key.split(".", 1)[1] if "." in k.key else k.key
         meaning = k.meaning.replace("|", "\\|")
-        out.append(f"| `{name}` | {typ} | {k.unit} | {default} | {paper} | {meaning} |")
+        structural = "yes" if k.structural else ""
+        out.append(
+            f"| `{name}` | {typ} | {k.unit} | {default} | {paper} | {meaning} | {structural} |"
+        )
     return "\n".join(out).lstrip("\n") + "\n"
 
 

@@ -22,7 +22,7 @@ from typing import Any
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.io.output_paths import safe_stem
-from bristlecrawler.scenario.schema import Scenario, check_substrate_scale
+from bristlecrawler.scenario.schema import Scenario
 from bristlecrawler.scenario.strict import parse_model
 from bristlecrawler.scenario.substrate import parse_substrate
 
@@ -104,13 +104,9 @@ def scenario_from_dict(data: dict[str, Any], origin: str = "scenario") -> Scenar
     """Validate a mapping (e.g. a parsed TOML document) into a :class:`Scenario`."""
     try:
         data = _new_names(data)
-        if isinstance(data.get("substrate"), dict):
-            try:
-                check_substrate_scale(data["substrate"])
-            except ValueError as exc:
-                raise InputError(str(exc)) from None
         if "substrate" in data:
-            parse_substrate(data["substrate"])  # its own, more specific messages
+            # Checked once here, with its own messages; the scenario takes the table as is.
+            data = {**data, "substrate": parse_substrate(data["substrate"])}
         return parse_model(Scenario, data)
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None

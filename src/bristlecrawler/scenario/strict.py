@@ -42,31 +42,68 @@ class StrictSection(BaseModel):
         return data
 
 
-def section_of(settings: type, base: type[StrictSection], doc: str) -> type[StrictSection]:
+def pydantic_field(
+    declared: dataclasses.Field, kind: Any, default: Any = dataclasses.MISSING
+) -> Any:
+    """The pydantic ``Field`` of a setting declared with :func:`fe.options.setting`: its
+    default (``default`` instead, if given; none for a required one), its meaning as the
+    description and its range as pydantic bounds."""
+    meta = declared.metadata
+    value = declared.default if default is dataclasses.MISSING else default
+    extra = dict(meta["bounds"])
+    if kind is float or float in typing.get_args(kind):
+        extra["allow_inf_nan"] = meta["inf"]
+    if meta["structural"]:
+        extra["json_schema_extra"] = {"structural": True}
+    if value is dataclasses.MISSING:
+        return Field(description=meta["doc"], **extra)
+    return Field(value, description=meta["doc"], **extra)
+
+
+def section_of(
+    settings: type,
+    base: type[StrictSection],
+    doc: str,
+    *,
+    exclude: tuple[str, ...] = (),
+    extra: dict[str, tuple[Any, dataclasses.Field]] | None = None,
+    rules: Any = None,
+    validators: dict[str, Any] | None = None,
+    name: str | None = None,
+    prefix: str = "",
+) -> type[StrictSection]:
     """The scenario table of an options dataclass whose fields are declared with
-    :func:`fe.options.setting`: one key per field, of the field's name, type and default,
-    its meaning as the description and its range as pydantic bounds; after the fields,
-    the dataclass's own ``check(prefix="")`` (the rules between settings), so each rule
-    has one home."""
+    :func:`fe.options.setting`: one key per setting (but ``exclude``), of the setting's
+    name, type and default, its meaning as the description and its range as pydantic
+    bounds; ``extra`` (name -> (type, declared setting)) adds the table's own keys in
+    front (a scenario's ``bristle.count``). After the fields, the table's ``rules(table)``
+    if given, else the dataclass's own ``check(prefix=prefix)`` on the table's settings
+    (the rules between settings), so each rule has one home."""
     hints = typing.get_type_hints(settings)
-    fields: dict[str, Any] = {}
+    fields: dict[str, Any] = {
+        key: (kind, pydantic_field(declared, kind))
+        for key, (kind, declared) in (extra or {}).items()
+    }
     for f in dataclasses.fields(settings):
-        meta, kind = f.metadata, hints[f.name]
-        extra = dict(meta["bounds"])
-        if kind is float:
-            extra["allow_inf_nan"] = meta["inf"]
-        fields[f.name] = (kind, Field(f.default, description=meta["doc"], **extra))
+        if "bounds" in f.metadata and f.name not in exclude:
+            fields[f.name] = (hints[f.name], pydantic_field(f, hints[f.name]))
+    own = set(extra or ())
 
     def check(self):
         try:
-            settings(**self.model_dump()).check(prefix="")
+            if rules is not None:
+                rules(self)
+            else:
+                settings(**self.model_dump(exclude=own)).check(prefix=prefix)
         except InputError as exc:
             raise ValueError(str(exc)) from None
         return self
 
-    validators = {"_check": model_validator(mode="after")(check)}
     model = create_model(
-        settings.__name__ + "Config", __base__=base, __validators__=validators, **fields
+        name or settings.__name__ + "Config",
+        __base__=base,
+        __validators__={"_check": model_validator(mode="after")(check), **(validators or {})},
+        **fields,
     )
     model.__doc__ = doc
     return model
@@ -87,6 +124,8 @@ def first_error_message(
     what = _description(model, loc) if model is not None else None
     shown = [names.get(p, p) if names and i == 0 else p for i, p in enumerate(loc)]
     where = f"{'.'.join(str(p) for p in shown)}: " if loc else ""
+    if err.get("type") == "value_error" and msg.startswith(where[:-2] + "."):
+        where = ""  # a rule's message that names the key in full
     if what and err.get("type") != "value_error":
         msg = f"{msg} ({what})"
     extra = f" (and {len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
