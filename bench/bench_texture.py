@@ -18,9 +18,9 @@ import time
 import numpy as np
 
 from bristlecrawler.reduced import Sin2Stroke, simulate
-from bristlecrawler.reduced.texture import TextureLaw
 from bristlecrawler.reduced.textured import TexturedCrawler
 from bristlecrawler.reduced.textured_pair import PairBatch, pair_cycles
+from bristlecrawler.results.texture import TextureLaw
 
 
 def groove_like_law() -> TextureLaw:

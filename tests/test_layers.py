@@ -37,7 +37,9 @@ PACKAGE = "bristlecrawler"
 #: The package root's own layer (``bristlecrawler/__init__.py``: the reduced model and
 #: ``__version__``).
 TOP = "__init__"
-BASE = {"errors", "states", "_x64", "_files"}
+#: The bottom layers every layer may import: the errors, the state codes, float64, file
+#: handling, and the typed results every model gives.
+BASE = {"errors", "states", "_x64", "_files", "results"}
 EVERYTHING_BELOW_THE_CLI = (
     BASE
     | {"_pytree", "fe", "contact", "reduced", "actuators", TOP}
@@ -51,6 +53,7 @@ ALLOWED = {
     "states": set(),
     "_x64": set(),
     "_files": set(),
+    "results": {"errors"},
     "_pytree": {"_x64"},
     TOP: {"errors", "reduced"},
     "fe": BASE | {"_pytree"},
@@ -77,12 +80,7 @@ ALLOWED = {
 
 #: Module imports that close a cycle and stay for now, each with its reason. (A lazy
 #: import from ``a`` to ``b``, both without the ``bristlecrawler.`` prefix.)
-CYCLE_EXCEPTIONS = {
-    ("reduced.crawler", "reduced.textured"): (
-        "the deprecated ReducedCrawler.from_drag(model='texture') forwards to "
-        "TexturedCrawler.from_drag until it is removed"
-    ),
-}
+CYCLE_EXCEPTIONS: dict[tuple[str, str], str] = {}
 
 #: Imports of a private name from another module that stay, each with its reason:
 #: (importing module, imported module, name), without the ``bristlecrawler.`` prefix.
@@ -90,6 +88,7 @@ PRIVATE_EXCEPTIONS: dict[tuple[str, str, str], str] = {}
 
 #: Layer -> third-party modules that importing it must not load.
 NOT_LOADED = {
+    "bristlecrawler.results": ("jax", "pydantic", "matplotlib", "xarray"),
     "bristlecrawler.fe": ("pydantic", "matplotlib", "xarray", "rich", "typer"),
     "bristlecrawler.contact": ("pydantic", "matplotlib", "xarray", "rich", "typer"),
     "bristlecrawler.reduced": ("jax", "pydantic", "matplotlib", "xarray"),

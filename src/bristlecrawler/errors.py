@@ -8,6 +8,8 @@ only when the caller asked them to throw.
 
 from __future__ import annotations
 
+import math
+
 
 class BristlecrawlerError(Exception):
     """Base class of the package's own errors."""
@@ -36,3 +38,11 @@ def printable(text: str, keep: str = "") -> str:
     can neither retitle, recolour nor rewrite the user's terminal. Characters in ``keep``
     (a newline, a tab) pass as they are."""
     return "".join(c if c.isprintable() or c in keep else repr(c)[1:-1] for c in text)
+
+
+def positive(name: str, value: float) -> float:
+    """``value`` as a float; InputError naming ``name`` unless it is finite and > 0."""
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise InputError(f"{name} must be a positive finite number, got {value!r}")
+    return value

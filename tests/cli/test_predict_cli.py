@@ -10,7 +10,7 @@ import pytest
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.jobs import predict
 from bristlecrawler.jobs.drag import DragRun
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.texture import TextureLaw
 from bristlecrawler.scenario.convert import to_spec
 from bristlecrawler.scenario.load import load_scenario
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.jobs import predict
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.texture import TextureLaw
 from bristlecrawler.scenario.convert import to_spec
 from bristlecrawler.scenario.load import apply_overrides, load_scenario
 from terminal import cli, under_a_terminal

@@ -58,7 +58,7 @@ def test_reduced_with_history_file(tmp_path, run_cli):
 def test_reduced_on_a_texture_law(tmp_path, run_cli):
     """--texture: the crawler on a drag test's texture law; a constant law is the paper's
     model (same advance and work as --fp/--fn/--k)."""
-    from bristlecrawler.reduced.texture import TextureLaw
+    from bristlecrawler.results.texture import TextureLaw
 
     law = tmp_path / "summary.json"
     law.write_text(json.dumps({"texture": TextureLaw.constant(0.456, 1.368, 0.48).to_dict()}))

@@ -163,6 +163,7 @@ def test_a_body_still_moving_after_the_gravity_step_is_reported(history, fractio
     moving = dataclasses.replace(history, stats={**history.stats, **stats})
     s = moving.summary()
     assert (fraction > SETTLE_CREEP_LIMIT) is warned
-    assert s["settle_creep_mm"] == pytest.approx(fraction * scale)
-    assert any("actuation.settle_time" in w for w in s["warnings"]) is warned
-    assert history.unsettled() is None and np.isnan(history.summary()["settle_creep_mm"])
+    assert s.settle_creep == pytest.approx(fraction * scale)
+    assert s.to_dict()["settle_creep_mm"] == s.settle_creep
+    assert any("actuation.settle_time" in w for w in s.warnings) is warned
+    assert history.unsettled() is None and np.isnan(history.summary().settle_creep)

@@ -229,7 +229,7 @@ def test_the_typed_summary_is_the_summary_files_mapping():
     """``summary()`` is ``summarize().to_dict()`` with the run's warnings, and reads back
     to the same values."""
     from bristlecrawler.io.jsonio import dumps_strict
-    from bristlecrawler.reduced.drag_summary import DragSummary
+    from bristlecrawler.results.drag import DragSummary
 
     r = _spring_drag()
     typed = r.summarize()

@@ -11,7 +11,7 @@ import pytest
 from bristlecrawler.crawler.drag_analysis import DragResult
 from bristlecrawler.crawler.drag_texture import texture_law
 from bristlecrawler.errors import InputError
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.texture import TextureLaw
 
 FP = np.array([0.30, 0.28, 0.25, 0.27, 0.22, 0.20, 0.24, 0.26])
 FN = np.array([0.45, 0.40, 0.35, 0.38, 0.50, 0.42, 0.33, 0.36])

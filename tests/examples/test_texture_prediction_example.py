@@ -37,8 +37,8 @@ def test_the_grid_covers_24_valid_designs_over_the_ranges():
 
 def _constant_law_drag(fp=0.2, fn=0.6, k=0.9):
     """A drag test's summary whose texture law is constant over position."""
-    from bristlecrawler.reduced.drag_summary import DragSummary, Sliding
-    from bristlecrawler.reduced.texture import TextureLaw
+    from bristlecrawler.results.drag import DragSummary, Sliding
+    from bristlecrawler.results.texture import TextureLaw
 
     return DragSummary(
         k=k,

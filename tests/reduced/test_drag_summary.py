@@ -8,9 +8,9 @@ import pytest
 
 from bristlecrawler.io.jsonio import dumps_strict
 from bristlecrawler.reduced import ReducedCrawler
-from bristlecrawler.reduced.drag_summary import DragSummary, Sliding
-from bristlecrawler.reduced.texture import TextureLaw
 from bristlecrawler.reduced.textured import TexturedCrawler
+from bristlecrawler.results.drag import DragSummary, Sliding
+from bristlecrawler.results.texture import TextureLaw
 
 #: The keys of a drag test's summary.json that slid both ways (before the typed result).
 BOTH_WAYS = [

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from bristlecrawler.reduced import ReducedCrawler, Sin2Stroke, closed_form, simulate
-from bristlecrawler.reduced.metrics import DESIGN_OUTPUTS, DesignMetrics, RunMetrics
+from bristlecrawler.results.metrics import DESIGN_OUTPUTS, DesignMetrics, RunMetrics
 
 #: The keys of the files written before the typed results (summary.json, the study store).
 RUN_KEYS = ["net_advance_mm", "advance_per_cycle_mm", "work_mJ"]
@@ -109,7 +109,7 @@ def test_a_null_in_a_summary_file_reads_as_nan():
     import json
     import math
 
-    from bristlecrawler.reduced.metrics import RunMetrics
+    from bristlecrawler.results.metrics import RunMetrics
 
     text = '{"net_advance_mm": null, "advance_per_cycle_mm": [1.5, null], "work_mJ": 2}'
     m = RunMetrics.from_dict(json.loads(text))

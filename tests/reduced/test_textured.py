@@ -14,9 +14,9 @@ from bristlecrawler.reduced import (
     peristaltic,
     simulate,
 )
-from bristlecrawler.reduced.texture import TextureLaw
 from bristlecrawler.reduced.textured import TexturedCrawler
 from bristlecrawler.reduced.textured_pair import PairBatch, pair_cycles
+from bristlecrawler.results.texture import TextureLaw
 
 
 def _random_law(rng, pitch=2.0, cells=8, k=0.5, wall=True):

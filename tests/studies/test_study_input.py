@@ -259,7 +259,7 @@ def test_a_texture_file_that_cannot_be_used_is_refused_before_any_design(
     design run and nothing written (not a study whose every design failed)."""
     import os
 
-    from bristlecrawler.reduced.texture import TextureLaw
+    from bristlecrawler.results.texture import TextureLaw
 
     good = tmp_path / "good.json"
     good.write_text(json.dumps({"texture": TextureLaw.constant(0.4, 1.2, 0.5).to_dict()}))

@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.texture import TextureLaw
 from bristlecrawler.scenario.reduced import ReducedConfig
 from bristlecrawler.studies.evaluate import evaluate_reduced_chunk
 

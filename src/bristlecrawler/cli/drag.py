@@ -10,6 +10,7 @@ import typer
 
 from bristlecrawler.cli.options import JsonSummary, OutFolder, ReplaceRun, ShowProgress
 from bristlecrawler.errors import printable
+from bristlecrawler.results import keys
 
 
 def drag_cmd(
@@ -106,12 +107,12 @@ def _print(s: dict) -> None:
     table.add_column("quantity")
     table.add_column("value", justify="right")
     rows = [
-        ("k, first loading to F_p (N/mm)", "k_N_per_mm"),
+        ("k, first loading to F_p (N/mm)", keys.K_N_PER_MM),
         ("k after a reversal (N/mm)", "k_unload_N_per_mm"),
         ("k, tangent while the tip sticks (N/mm)", "k_initial_N_per_mm"),
-        ("F_p, sliding along (N)", "fp_N"),
+        ("F_p, sliding along (N)", keys.FP_N),
         ("  scatter over pitches (N)", "fp_scatter_N"),
-        ("F_n, sliding against (N)", "fn_N"),
+        ("F_n, sliding against (N)", keys.FN_N),
         ("  scatter over pitches (N)", "fn_scatter_N"),
         ("F_p / k (mm)", "fp_over_k_mm"),
         ("mu times the load (N)", "mu_load_N"),

@@ -11,6 +11,7 @@ import typer
 
 from bristlecrawler.cli.options import OutFolder, ReplaceRun
 from bristlecrawler.errors import printable
+from bristlecrawler.results import keys
 
 
 def analyze_cmd(
@@ -114,9 +115,10 @@ def analyze_cmd(
 
 def _print_analysis(summary: dict) -> None:
     ci = summary["fp_over_k_ci_mm"]
-    typer.echo(f"{summary['cycles']} cycles, net advance {summary['net_advance_mm']:.2f} mm")
+    typer.echo(f"{summary['cycles']} cycles, net advance {summary[keys.NET_ADVANCE_MM]:.2f} mm")
     typer.echo(
-        "advance per cycle (mm): " + ", ".join(f"{a:.2f}" for a in summary["advance_per_cycle_mm"])
+        "advance per cycle (mm): "
+        + ", ".join(f"{a:.2f}" for a in summary[keys.ADVANCE_PER_CYCLE_MM])
     )
     ci_txt = "n/a" if ci[0] is None else f"[{ci[0]:.3f}, {ci[1]:.3f}]"
     c = summary["fp_over_k_mm"]
@@ -125,8 +127,8 @@ def _print_analysis(summary: dict) -> None:
         f"F_p/k = {'n/a' if c is None else f'{c:.3f}'} mm, 95% CI {ci_txt} "
         f"(from net advance: {'n/a' if from_adv is None else f'{from_adv:.3f}'} mm)"
     )
-    if "fp_N" in summary:
-        typer.echo(f"F_p = {summary['fp_N']:.3f} N, k = {summary['k_N_per_mm']:.3f} N/mm")
+    if keys.FP_N in summary:
+        typer.echo(f"F_p = {summary[keys.FP_N]:.3f} N, k = {summary[keys.K_N_PER_MM]:.3f} N/mm")
     for note in summary["notes"]:
         typer.echo(f"note: {printable(note)}")
     typer.echo(f"results in {printable(summary['output_dir'])}")

@@ -7,6 +7,7 @@ from typing import Annotated
 import typer
 
 from bristlecrawler.cli.options import JsonSummary
+from bristlecrawler.results import keys
 
 
 def predict_cmd(
@@ -86,7 +87,7 @@ def _print(r: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from bristlecrawler.reduced.metrics import RunMetrics
+    from bristlecrawler.results.metrics import RunMetrics
 
     table = Table(title=_title(r))
     table.add_column("model")
@@ -108,8 +109,8 @@ def _print(r: dict) -> None:
     if d is not None:
         where = "from the drag cache" if d["cached"] else "run now"
         say(
-            f"FE drag test of one bristle ({where}): k = {d['k_N_per_mm']:.3f} N/mm, "
-            f"F_p = {d['fp_N']:.3f} N, F_n = {d['fn_N']:.3f} N, pitch {d['pitch_mm']:g} mm"
+            f"FE drag test of one bristle ({where}): k = {d[keys.K_N_PER_MM]:.3f} N/mm, "
+            f"F_p = {d[keys.FP_N]:.3f} N, F_n = {d[keys.FN_N]:.3f} N, pitch {d['pitch_mm']:g} mm"
         )
     for model in r["models"].values():
         if model["assumes"]:

@@ -20,6 +20,7 @@ from bristlecrawler.reduced.crawler import (
     PAPER_PERIOD,
     PAPER_S_MAX,
 )
+from bristlecrawler.results import keys
 
 
 def reduced_cmd(
@@ -140,7 +141,7 @@ def _print_summary(summary: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from bristlecrawler.reduced.metrics import RunMetrics
+    from bristlecrawler.results.metrics import RunMetrics
 
     m = RunMetrics.from_dict(summary)
     table = Table(title="reduced model", show_header=True)
@@ -154,7 +155,7 @@ def _print_summary(summary: dict) -> None:
     if "closed_form_work_mJ" in summary:
         table.add_row("  closed form (mJ)", f"{summary['closed_form_work_mJ']:.4f}")
     table.add_row(
-        "work per cycle (mJ)", ", ".join(f"{w:.3f}" for w in summary["work_per_cycle_mJ"])
+        "work per cycle (mJ)", ", ".join(f"{w:.3f}" for w in summary[keys.WORK_PER_CYCLE_MJ])
     )
     if "regime" in summary:
         table.add_row("regime", str(summary["regime"]))

@@ -156,7 +156,7 @@ def _print_summary(summary: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from bristlecrawler.reduced.metrics import RunMetrics
+    from bristlecrawler.results.metrics import RunMetrics
 
     m = RunMetrics.from_dict(summary)
     table = Table(title=f"finite-element crawler: {summary['scenario']}")

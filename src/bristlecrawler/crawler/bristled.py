@@ -15,7 +15,7 @@ from bristlecrawler.reduced.bristled import (
     TaperedBristle,
     run,
 )
-from bristlecrawler.reduced.metrics import RunMetrics
+from bristlecrawler.results.metrics import RunMetrics
 
 
 def _surface(substrate):

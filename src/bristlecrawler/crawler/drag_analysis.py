@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bristlecrawler.crawler.record import energy_series
-from bristlecrawler.reduced.drag_summary import DragSummary, Sliding
+from bristlecrawler.results import keys
+from bristlecrawler.results.drag import DragSummary, Sliding
 from bristlecrawler.states import ContactState
 
 
@@ -183,7 +184,7 @@ class DragResult:
         )
 
     def texture(self, cells: int | None = None):
-        """The bristle's :class:`~bristlecrawler.reduced.texture.TextureLaw` (resistance
+        """The bristle's :class:`~bristlecrawler.results.texture.TextureLaw` (resistance
         over the tip's position within a pitch, both ways), or None when the test did not
         slide both ways (see :mod:`.drag_texture`)."""
         from bristlecrawler.crawler.drag_texture import DEFAULT_CELLS, texture_law
@@ -277,15 +278,15 @@ class DragResult:
 
 def _texture_variables(law: dict) -> dict:
     """The texture law as Dataset variables over its cells (dim ``cell``)."""
-    n = len(law["fp_N"])
+    n = len(law[keys.FP_N])
     centre = (np.arange(n) + 0.5) * law["cell_mm"] + law["origin_mm"]
-    fn = np.array([np.inf if v == "inf" else v for v in law["fn_N"]], dtype=float)
+    fn = np.array([np.inf if v == "inf" else v for v in law[keys.FN_N]], dtype=float)
     common = {"pitch_mm": law["pitch_mm"], "origin_mm": law["origin_mm"]}
     return {
         "texture_position": ("cell", centre, {"units": "mm", "long_name": "cell centre"}),
         "texture_fp": (
             "cell",
-            np.asarray(law["fp_N"], dtype=float),
+            np.asarray(law[keys.FP_N], dtype=float),
             {"units": "N", "long_name": "resistance along the grain (F_p(x))"} | common,
         ),
         "texture_fn": (
@@ -294,7 +295,7 @@ def _texture_variables(law: dict) -> dict:
             {
                 "units": "N",
                 "long_name": "resistance against the grain (F_n(x))",
-                "k_N_per_mm": law["k_N_per_mm"],
+                keys.K_N_PER_MM: law[keys.K_N_PER_MM],
                 "tip_offset_mm": law["tip_offset_mm"],
             },
         ),

@@ -2,7 +2,7 @@
 
 From a drag test that slides along and against the grain over whole pitches
 (``DragTest(direction="cycle")``) this reads the reduced model's
-:class:`~bristlecrawler.reduced.texture.TextureLaw`:
+:class:`~bristlecrawler.results.texture.TextureLaw`:
 
 * k: the slope of the carriage's force over its travel while the FE tip sticks, pooled
   over every stick phase of the test (each with its own offset): the spring between the
@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.texture import TextureLaw
 from bristlecrawler.states import ContactState
 
 #: Cells per pitch of a texture law read from a drag test.

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bristlecrawler.results.run import RunSummary
 from bristlecrawler.states import ContactState
 
 TIP_OPEN, TIP_STICK, TIP_SLIP = ContactState.OPEN, ContactState.STICK, ContactState.SLIP
@@ -218,9 +219,10 @@ class CrawlerHistory:
 
         return crawler_dataset(self, attrs)
 
-    def summary(self) -> dict:
-        """Summary numbers of the run, units in the key names (the CLI's summary.json);
-        the advance and the work are the run's :class:`RunMetrics`."""
+    def summary(self) -> RunSummary:
+        """Summary numbers of the run (:class:`~bristlecrawler.results.RunSummary`;
+        ``.to_dict()`` is the CLI's summary.json); the advance and the work are the run's
+        :class:`RunMetrics`."""
         from bristlecrawler.crawler.metrics import run_metrics
 
         work = self.connector_work
@@ -236,31 +238,31 @@ class CrawlerHistory:
         nan = float("nan")
         force = self.connector_force if self.segment_force is None else self.segment_force
         span = max(self.t[-1] - self.t[0], 1e-300)
-        return {
-            "scenario": self.name,
-            "bristles": int(self.tip_position.shape[1]),
-            **run_metrics(self).to_dict(),
-            "work_per_cycle_mJ": np.diff(work[b]).tolist(),
-            "mean_abs_connector_force_N": float(
+        return RunSummary(
+            scenario=self.name,
+            bristles=int(self.tip_position.shape[1]),
+            metrics=run_metrics(self),
+            work_per_cycle=tuple(np.diff(work[b]).tolist()),
+            mean_abs_connector_force=float(
                 np.trapezoid(np.abs(self.connector_force), self.t) / span
             ),
-            "max_abs_connector_force_N": float(np.max(np.abs(force))),
-            "energy_balance_rel_error": self.energy_balance_rel_error(),
-            "friction_dissipation_mJ": float(self.energies.get("friction", [0.0])[-1]),
-            "damping_dissipation_mJ": float(self.energies.get("damping", [0.0])[-1]),
-            "wall_time_s": float(st.get("wall_time_s", nan)),
-            "compile_time_s": float(st.get("compile_time_s", nan)),
-            "stroke_wall_time_s": float(st.get("stroke_wall_time_s", nan)),
-            "steps": int(st.get("steps", self.t.size - 1)),
-            "newton_iterations": int(st.get("newton_iterations", 0)),
-            "rejected_steps": int(st.get("rejected_steps", 0)),
-            "first_frequency_hz": float(st.get("first_frequency_hz", nan)),
-            "rayleigh_a0_per_s": float(st.get("rayleigh_a0", nan)),
-            "max_bristle_strain": nan if peak is None else peak.strain,
-            "settle_speed_mm_s": float(st.get("settle_speed_mm_s", nan)),
-            "settle_creep_mm": float(st.get("settle_creep_mm", nan)),
-            "warnings": warnings,
-        }
+            max_abs_connector_force=float(np.max(np.abs(force))),
+            energy_balance_rel_error=self.energy_balance_rel_error(),
+            friction_dissipation=float(self.energies.get("friction", [0.0])[-1]),
+            damping_dissipation=float(self.energies.get("damping", [0.0])[-1]),
+            wall_time=float(st.get("wall_time_s", nan)),
+            compile_time=float(st.get("compile_time_s", nan)),
+            stroke_wall_time=float(st.get("stroke_wall_time_s", nan)),
+            steps=int(st.get("steps", self.t.size - 1)),
+            newton_iterations=int(st.get("newton_iterations", 0)),
+            rejected_steps=int(st.get("rejected_steps", 0)),
+            first_frequency=float(st.get("first_frequency_hz", nan)),
+            rayleigh_a0=float(st.get("rayleigh_a0", nan)),
+            max_bristle_strain=nan if peak is None else peak.strain,
+            settle_speed=float(st.get("settle_speed_mm_s", nan)),
+            settle_creep=float(st.get("settle_creep_mm", nan)),
+            warnings=tuple(warnings),
+        )
 
     def unsettled(self) -> str | None:
         """A warning when the body still moved at the end of the gravity step by enough

@@ -1,9 +1,9 @@
 """An FE crawler run's metrics as the typed results every model shares
-(:mod:`bristlecrawler.reduced.metrics`)."""
+(:mod:`bristlecrawler.results.metrics`)."""
 
 from __future__ import annotations
 
-from bristlecrawler.reduced.metrics import RunMetrics
+from bristlecrawler.results.metrics import RunMetrics
 
 
 def run_metrics(history) -> RunMetrics:

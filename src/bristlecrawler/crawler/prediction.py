@@ -24,12 +24,12 @@ from bristlecrawler.reduced import (
     peristaltic,
     simulate,
 )
-from bristlecrawler.reduced.metrics import RunMetrics
+from bristlecrawler.results.metrics import RunMetrics
 
 
 def reduced_twin(spec: CrawlerSpec, drag) -> ReducedCrawler:
     """The reduced crawler of ``spec``: its bristles at their places along the body, each
-    with ``drag``'s k, F_p and F_n (a :class:`~bristlecrawler.reduced.drag_summary.
+    with ``drag``'s k, F_p and F_n (a :class:`~bristlecrawler.results.drag.
     DragSummary`, a drag result, a summary mapping, or one of them per bristle)."""
     x = np.array([b.position for b in spec.bristles])
     return ReducedCrawler.from_drag(drag, len(x), segment_lengths=np.diff(np.sort(x)))

@@ -11,6 +11,7 @@ from bristlecrawler.experiment.fit import ReducedFit, fit_reduced
 from bristlecrawler.experiment.gait import Transition, per_cycle_advance, transitions
 from bristlecrawler.experiment.preprocess import GaitSignals, prepare
 from bristlecrawler.experiment.recording import Recording
+from bristlecrawler.results import keys
 
 
 @dataclass(frozen=True)
@@ -30,8 +31,8 @@ class Analysis:
         f = self.fit
         out: dict[str, Any] = {
             "cycles": self.signals.n_cycles,
-            "net_advance_mm": self.net_advance,
-            "advance_per_cycle_mm": self.advance_per_cycle.tolist(),
+            keys.NET_ADVANCE_MM: self.net_advance,
+            keys.ADVANCE_PER_CYCLE_MM: self.advance_per_cycle.tolist(),
             "s_max_per_cycle_mm": f.s_max_mm.tolist(),
             "cycle_duration_s": np.diff(self.signals.t[self.signals.cycles[:, [0, 2]]], axis=1)
             .ravel()
@@ -46,7 +47,7 @@ class Analysis:
             "notes": list(self.signals.notes) + list(f.notes),
         }
         if f.fp_N is not None:
-            out |= {"fp_N": f.fp_N, "k_N_per_mm": f.k_N_per_mm}
+            out |= {keys.FP_N: f.fp_N, keys.K_N_PER_MM: f.k_N_per_mm}
         return {
             k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in out.items()
         }

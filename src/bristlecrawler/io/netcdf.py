@@ -27,11 +27,9 @@ def reduced_dataset(result: ReducedResult, attrs: dict[str, Any] | None = None) 
     """The reduced-model time series as an xarray Dataset (units in each variable's attrs)."""
     import xarray as xr
 
-    c = result.crawler
-    n = c.n_bristles
-    laws = getattr(c, "laws", None)  # a crawler on a texture: its laws, and their means
-    if laws is not None:
-        c = c.paper_crawler()
+    n = result.crawler.n_bristles
+    laws = result.crawler.texture_laws()  # on a texture: its laws, and their means
+    c = result.crawler.paper_crawler()
     ev = result.events
     ds = xr.Dataset(
         data_vars={

@@ -21,8 +21,9 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from bristlecrawler.reduced.drag_summary import FN_N, FP_N, K_N_PER_MM, DragSummary
-from bristlecrawler.reduced.metrics import RunMetrics
+from bristlecrawler.results.drag import DragSummary
+from bristlecrawler.results.keys import FN_N, FP_N, K_N_PER_MM
+from bristlecrawler.results.metrics import RunMetrics
 
 #: Bump when the drag test or its analysis changes what a cached summary holds.
 CACHE_VERSION = 2
@@ -149,10 +150,10 @@ def _warn(message: str) -> None:
 
 
 def predict_models(
-    spec, summary: DragSummary | dict, cycles: int, paper: bool = True
+    spec, summary: DragSummary, cycles: int, paper: bool = True
 ) -> dict[str, RunMetrics]:
     """The texture model and (with ``paper``) the paper's model of ``spec`` with a drag
-    ``summary`` (typed or its JSON mapping)."""
+    test's ``summary``."""
     import numpy as np
 
     from bristlecrawler.crawler.prediction import reduced_gait, reduced_twin

@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from bristlecrawler.results import keys
+
 #: Where the reduced models were compared with the FE crawler (the docs' comparison tables).
 FINDINGS = "docs/findings.md, 'The texture model against the FE crawler'"
 #: Where the bristled model was compared with the FE crawler.
@@ -70,7 +72,7 @@ def paper_model_refusal(fp: float, fn: float, scatter: float = math.nan) -> str 
 
 def assumptions(summary, cycles: int, bristles: int) -> dict[str, str]:
     """What each model assumed, in one line each (``summary``: the drag test's
-    :class:`~bristlecrawler.reduced.drag_summary.DragSummary`)."""
+    :class:`~bristlecrawler.results.drag.DragSummary`)."""
     law = summary.texture
     where = f"{bristles} bristles at the design's places, its stroke, {cycles} cycles"
     walls = ", walls that lock a tip" if len(law.walls_mm) else ""
@@ -96,9 +98,9 @@ def disagreement(
     this one, and where the comparison is."""
     if paper is None:
         return None
-    per = [len(texture["advance_per_cycle_mm"]), len(paper["advance_per_cycle_mm"])]
+    per = [len(texture[keys.ADVANCE_PER_CYCLE_MM]), len(paper[keys.ADVANCE_PER_CYCLE_MM])]
     cycles = max(min(per), 1)
-    gap = abs(texture["net_advance_mm"] - paper["net_advance_mm"]) / cycles
+    gap = abs(texture[keys.NET_ADVANCE_MM] - paper[keys.NET_ADVANCE_MM]) / cycles
     if not gap > pitch_mm:
         return None
     head = f"the two models differ by {gap:.2f} mm per cycle, more than the {pitch_mm:g} mm pitch."

@@ -7,9 +7,10 @@ from pathlib import Path
 from typing import Any
 
 from bristlecrawler.reduced import closed_form as cf
-from bristlecrawler.reduced.metrics import RunMetrics
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import ReducedResult
+from bristlecrawler.results import keys
+from bristlecrawler.results.metrics import RunMetrics
 from bristlecrawler.scenario.cost import MAX_REDUCED_S, reduced_run
 from bristlecrawler.scenario.reduced import ReducedConfig, build
 
@@ -32,7 +33,7 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
     """Summary numbers (units in the key names)."""
     _, work = result.per_cycle()
     out: dict[str, Any] = RunMetrics.from_reduced(result).to_dict() | {
-        "work_per_cycle_mJ": work.tolist(),
+        keys.WORK_PER_CYCLE_MJ: work.tolist(),
         "dissipation_mJ": float(result.dissipation[-1]),
         "final_elastic_energy_mJ": float(result.elastic_energy[-1]),
         "energy_balance_rel_error": result.energy_balance_error,

@@ -72,8 +72,7 @@ def summarize(h: CrawlerHistory, sc: Scenario) -> dict[str, Any]:
     """Summary numbers (units in the key names): :meth:`CrawlerHistory.summary`, with the
     warnings of a run whose balance residual or tolerance is out of its normal range."""
     summary = h.summary()
-    summary["warnings"] = summary["warnings"] + quality_warnings(h.energy_balance_rel_error(), sc)
-    return summary
+    return summary.with_warnings(quality_warnings(h.energy_balance_rel_error(), sc)).to_dict()
 
 
 def frame_subset(h: CrawlerHistory, per_cycle: int) -> np.ndarray:

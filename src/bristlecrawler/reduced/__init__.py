@@ -9,10 +9,11 @@ Public API (units: mm, N, s, mJ):
 * :func:`simulate` / :func:`solve`: the exact rate-independent solver -> :class:`ReducedResult`.
 * :mod:`closed_form`: two-bristle closed forms in all regimes (vectorised).
 * :func:`calibrate`: F_p/k, F_p, k from advance and work.
-* :class:`RunMetrics`, :class:`DesignMetrics`: what a run gives (any model), typed, with
-  ``to_dict`` for the JSON files; :class:`DragSummary`: what a drag test gives.
-* :class:`TextureLaw`: a bristle's resistance over its tip's position within a pitch;
-  :class:`TexturedCrawler`: N bristles on it (``simulate`` solves it exactly);
+* :class:`RunMetrics`, :class:`DesignMetrics`, :class:`DragSummary`, :class:`TextureLaw`:
+  the typed results of :mod:`bristlecrawler.results`, shared with the FE crawler, here
+  too for convenience.
+* :class:`TexturedCrawler`: N bristles on a :class:`TextureLaw` (``simulate`` solves it
+  exactly);
   :mod:`textured_pair`: two-bristle designs in batches.
 """
 
@@ -28,10 +29,8 @@ from bristlecrawler.reduced.crawler import (
     PAPER_S_MAX,
     ReducedCrawler,
 )
-from bristlecrawler.reduced.drag_summary import DragSummary
 from bristlecrawler.reduced.friction import DirectionalFriction
 from bristlecrawler.reduced.gaits import Gait, breathing, peristaltic
-from bristlecrawler.reduced.metrics import DesignMetrics, RunMetrics
 from bristlecrawler.reduced.simulate import simulate
 from bristlecrawler.reduced.solver import (
     SLIP_BACKWARD,
@@ -47,8 +46,10 @@ from bristlecrawler.reduced.strokes import (
     TriangleStroke,
     read_history_csv,
 )
-from bristlecrawler.reduced.texture import TextureLaw
 from bristlecrawler.reduced.textured import TexturedCrawler
+from bristlecrawler.results.drag import DragSummary
+from bristlecrawler.results.metrics import DesignMetrics, RunMetrics
+from bristlecrawler.results.texture import TextureLaw
 
 __all__ = [
     "DEFAULT_FN_OVER_FP",

@@ -16,6 +16,7 @@ import numpy as np
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced import closed_form as cf
+from bristlecrawler.results import keys
 
 #: Bounds of the measured inputs: stroke (mm), cycles, work (mJ). Beyond them the numbers
 #: are not a crawler's, and the closed forms overflow.
@@ -43,7 +44,7 @@ class Calibration:
     def as_dict(self) -> dict:
         out = {"fp_over_k_mm": self.fp_over_k_mm, "regime": self.regime}
         if self.fp_N is not None:
-            out |= {"fp_N": self.fp_N, "k_N_per_mm": self.k_N_per_mm}
+            out |= {keys.FP_N: self.fp_N, keys.K_N_PER_MM: self.k_N_per_mm}
         return out
 
 

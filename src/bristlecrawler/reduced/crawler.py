@@ -12,13 +12,17 @@ F_p to 0.45 N).
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.reduced.drag_summary import FN_N, FP_N, K_N_PER_MM, DragSummary, summary_of
 from bristlecrawler.reduced.friction import DirectionalFriction
+from bristlecrawler.reduced.model import ReducedModel
+from bristlecrawler.results.drag import summary_of
+from bristlecrawler.results.keys import FN_N, FP_N, K_N_PER_MM
 
 #: Paper values (Section 4): F_p/k = 0.95 mm, k = 0.48 N/mm, L = 100 mm, s~ = 20 mm, T = 20 s.
 PAPER_K = 0.48
@@ -45,8 +49,8 @@ def _as_vector(name: str, value, n: int) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class ReducedCrawler:
-    """N-bristle reduced crawler.
+class ReducedCrawler(ReducedModel):
+    """N-bristle reduced crawler: the paper's law (eq. 4.1), one F_p and F_n per bristle.
 
     Attributes:
         k: bristle stiffnesses, N/mm, shape (N,).
@@ -54,6 +58,8 @@ class ReducedCrawler:
         fn: against-the-grain resistances F_n, N, shape (N,), fn >= fp.
         segment_lengths: rest lengths of the N-1 body segments, mm.
     """
+
+    name: ClassVar[str] = "paper"
 
     k: np.ndarray
     fp: np.ndarray
@@ -116,7 +122,7 @@ class ReducedCrawler:
         """The crawler whose bristles all have a drag test's k, F_p and F_n.
 
         Args:
-            drag: a drag test's :class:`~bristlecrawler.reduced.drag_summary.DragSummary`,
+            drag: a drag test's :class:`~bristlecrawler.results.drag.DragSummary`,
                 its result (anything with ``summarize()`` or ``summary()``, such as
                 ``bristlecrawler.crawler.drag.DragResult``) or its summary mapping: reads
                 k (first-loading slope), F_p and F_n; a sequence of them gives each
@@ -135,17 +141,13 @@ class ReducedCrawler:
             raise InputError(f"reduced model must be paper or texture, got {model!r}")
         many = isinstance(drag, list | tuple)
         if model == "texture":
-            # The textured crawler is built on this one (its solver and paper_crawler):
-            # this forward is the one import back, until the deprecated option goes.
-            from bristlecrawler.reduced.textured import TexturedCrawler
-
             warnings.warn(
                 "ReducedCrawler.from_drag(model='texture') is deprecated: use "
                 "TexturedCrawler.from_drag",
                 DeprecationWarning,
                 stacklevel=2,
             )
-            return TexturedCrawler.from_drag(
+            return ReducedModel.registered["texture"].from_drag(
                 drag, n_bristles, length, segment_lengths=segment_lengths, start_mm=start_mm
             )
         values = [_drag_values(d) for d in (drag if many else [drag])]
@@ -169,6 +171,20 @@ class ReducedCrawler:
         """Rest distance between the first and the last bristle, mm."""
         return float(self.segment_lengths.sum())
 
+    def solve(self, t, shortening, cycle_bounds=None):
+        """See :meth:`ReducedModel.solve` (:func:`bristlecrawler.reduced.solve`)."""
+        from bristlecrawler.reduced.solver import solve
+
+        return solve(self, t, shortening, cycle_bounds)
+
+    def paper_crawler(self) -> ReducedCrawler:
+        """Itself: the paper's model."""
+        return self
+
+    def texture_laws(self) -> None:
+        """None: the paper's law does not depend on the tip's position."""
+        return None
+
     def friction(self, i: int) -> DirectionalFriction:
         """The friction law of bristle ``i``."""
         return DirectionalFriction(float(self.fp[i]), float(self.fn[i]))
@@ -187,16 +203,16 @@ class ReducedCrawler:
 
 def _drag_values(drag) -> tuple[float, float, float]:
     """(k, F_p, F_n) of a drag test's summary, refused with the missing one's name."""
-    summary = summary_of(drag)
-    if isinstance(summary, DragSummary):
-        summary = {K_N_PER_MM: summary.k, FP_N: summary.fp, FN_N: summary.fn}
     names = {K_N_PER_MM: "k", FP_N: "F_p", FN_N: "F_n"}
+    if isinstance(drag, Mapping):
+        for key, name in names.items():
+            if key not in drag:
+                raise InputError(f"the drag test gives no {name} ({key})")
+    summary = summary_of(drag)
+    values = {K_N_PER_MM: summary.k, FP_N: summary.fp, FN_N: summary.fn}
     out = []
     for key, name in names.items():
-        try:
-            v = float(summary[key])
-        except (KeyError, TypeError, ValueError):
-            raise InputError(f"the drag test gives no {name} ({key})") from None
+        v = values[key]
         if not (np.isfinite(v) and v > 0):
             how = {
                 "k": "the tip never stuck before it slipped",

@@ -17,8 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bristlecrawler.errors import InputError
-from bristlecrawler.reduced._checks import positive
+from bristlecrawler.errors import InputError, positive
 
 
 @dataclass(frozen=True)

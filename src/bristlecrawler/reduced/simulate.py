@@ -5,11 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from bristlecrawler.errors import InputError
-from bristlecrawler.reduced.crawler import ReducedCrawler
 from bristlecrawler.reduced.gaits import Gait, breathing
-from bristlecrawler.reduced.solver import ReducedResult, solve
+from bristlecrawler.reduced.model import ReducedModel
+from bristlecrawler.reduced.solver import ReducedResult
 from bristlecrawler.reduced.strokes import SampledStroke, Stroke
-from bristlecrawler.reduced.textured import TexturedCrawler, solve_textured
 
 
 def _excursion_bounds(s: np.ndarray) -> np.ndarray:
@@ -48,7 +47,7 @@ def cycle_bounds(gait: Gait, t: np.ndarray, cycles: int) -> np.ndarray:
 
 
 def simulate(
-    crawler: ReducedCrawler | TexturedCrawler,
+    crawler: ReducedModel,
     stroke: Stroke | Gait,
     cycles: int = 5,
     samples_per_cycle: int = 2000,
@@ -56,12 +55,14 @@ def simulate(
     """Run the exact quasi-static solver over ``cycles`` strokes.
 
     Args:
-        crawler: the reduced crawler (the paper's law, or on a texture).
+        crawler: a reduced model (:class:`ReducedModel`: the paper's law, a texture, ...).
         stroke: a stroke (all segments breathe in phase) or a :class:`Gait`.
         cycles: number of cycles (ignored for a sampled history, which is replayed whole).
         samples_per_cycle: samples per period for analytic strokes (rounded up to even so
             that turning points are samples); a sampled history uses its own samples.
     """
+    if not isinstance(crawler, ReducedModel):
+        raise InputError(f"not a reduced model: {type(crawler).__name__}")
     if int(cycles) != cycles or cycles < 1:
         raise InputError(f"cycles must be an integer >= 1, got {cycles}")
     if int(samples_per_cycle) != samples_per_cycle or samples_per_cycle < 2:
@@ -77,6 +78,4 @@ def simulate(
     if isinstance(gait.stroke, SampledStroke):
         t = t + gait.stroke.t[0]
     bounds = cycle_bounds(gait, t - t[0], int(cycles))
-    if isinstance(crawler, TexturedCrawler):
-        return solve_textured(crawler, t, shortening, bounds)
-    return solve(crawler, t, shortening, bounds)
+    return crawler.solve(t, shortening, bounds)

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bristlecrawler.errors import InputError, SolverError
-from bristlecrawler.reduced.crawler import ReducedCrawler
+from bristlecrawler.reduced.model import ReducedModel
 from bristlecrawler.states import Slip
 
 # The reduced model's bristle states: the sign of the sliding velocity (Slip.NONE: stick).
@@ -69,7 +69,7 @@ class ReducedResult:
         cycle_bounds: sample indices at which cycles start, plus the last sample.
     """
 
-    crawler: ReducedCrawler
+    crawler: ReducedModel
     t: np.ndarray
     shortening: np.ndarray
     X: np.ndarray
@@ -159,7 +159,7 @@ def _zero_set(f, bps: np.ndarray, ftol: float) -> tuple[float, float]:
 class Stepper:
     """Holds the crawler constants and the exact per-interval kernels."""
 
-    def __init__(self, crawler: ReducedCrawler, scale: float):
+    def __init__(self, crawler: ReducedModel, scale: float):
         self.k = crawler.k
         self.upper = crawler.fp / crawler.k  # forward-yield elongation, mm
         self.lower = -crawler.fn / crawler.k  # backward-yield elongation, mm
@@ -251,7 +251,7 @@ class Stepper:
 
 
 def solve(
-    crawler: ReducedCrawler,
+    crawler: ReducedModel,
     t: np.ndarray,
     shortening: np.ndarray,
     cycle_bounds: np.ndarray | None = None,
@@ -330,7 +330,7 @@ def solve(
     )
 
 
-def checked_samples(crawler: ReducedCrawler, t, shortening) -> tuple[np.ndarray, np.ndarray]:
+def checked_samples(crawler: ReducedModel, t, shortening) -> tuple[np.ndarray, np.ndarray]:
     """Sample times (M,) and shortenings (M, N - 1) as float arrays; InputError naming
     what is wrong with them (shape, non-finite values, times not increasing, a stroke the
     crawler cannot take)."""

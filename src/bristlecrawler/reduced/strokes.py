@@ -14,8 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bristlecrawler._files import MAX_INPUT_BYTES, open_regular
-from bristlecrawler.errors import InputError
-from bristlecrawler.reduced._checks import positive
+from bristlecrawler.errors import InputError, positive
 
 #: Largest time a history may hold, s (about 30 years).
 MAX_TIME = 1e9

@@ -1,5 +1,5 @@
 """The reduced crawler on a texture: N bristles, each a spring to a tip with a
-:class:`~bristlecrawler.reduced.texture.TextureLaw`, solved exactly event by event.
+:class:`~bristlecrawler.results.texture.TextureLaw`, solved exactly event by event.
 
 The unknowns and balance are the paper's (eqs. 4.3-4.5, see :mod:`.solver`); what changes is
 that a tip's yield elongations ``F_p(x_i)/k_i`` and ``-F_n(x_i)/k_i`` depend on where the tip
@@ -14,19 +14,22 @@ snap's loss is the elastic energy it releases, so ``W = E_el + D`` stays exact.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from bristlecrawler.errors import InputError, SolverError
 from bristlecrawler.reduced.crawler import PAPER_LENGTH, ReducedCrawler
-from bristlecrawler.reduced.drag_summary import DragSummary, summary_of
+from bristlecrawler.reduced.model import ReducedModel
 from bristlecrawler.reduced.solver import Event, ReducedResult, Stepper, checked_samples
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.drag import summary_of
+from bristlecrawler.results.texture import TextureLaw
 
 
 @dataclass(frozen=True)
-class TexturedCrawler:
-    """N bristles on a texture.
+class TexturedCrawler(ReducedModel):
+    """N bristles on a texture: each bristle's resistance a :class:`TextureLaw` over its
+    tip's position.
 
     Attributes:
         laws: one :class:`TextureLaw` per bristle (its k, resistance over position and
@@ -35,6 +38,8 @@ class TexturedCrawler:
         start_mm: substrate position of the first bristle's attachment at t = 0, mm (the
             tips start at attachment + tip offset).
     """
+
+    name: ClassVar[str] = "texture"
 
     laws: tuple[TextureLaw, ...]
     segment_lengths: np.ndarray
@@ -76,7 +81,7 @@ class TexturedCrawler:
         at substrate position ``start_mm`` (mm).
 
         Args:
-            drag: a drag test's :class:`~bristlecrawler.reduced.drag_summary.DragSummary`,
+            drag: a drag test's :class:`~bristlecrawler.results.drag.DragSummary`,
                 its result (anything with ``summarize()`` or ``summary()``, such as
                 ``bristlecrawler.crawler.drag.DragResult``) or its summary mapping: reads
                 the texture law (a drag test with direction cycle); a sequence of them
@@ -87,14 +92,10 @@ class TexturedCrawler:
         drags = list(drag) if isinstance(drag, list | tuple) else None
         laws = []
         for d in drags or [drag]:
-            summary = summary_of(d)
-            if isinstance(summary, DragSummary):
-                law = summary.texture
-            else:
-                law = summary.get("texture") if isinstance(summary, dict) else None
+            law = summary_of(d).texture
             if law is None:
                 raise InputError("the drag test gives no texture law (run direction cycle)")
-            laws.append(law if isinstance(law, TextureLaw) else TextureLaw.from_dict(law))
+            laws.append(law)
         n = len(laws) if drags else int(n_bristles)
         if segment_lengths is None:
             if n < 2:
@@ -125,6 +126,14 @@ class TexturedCrawler:
 
     def check_stroke(self, max_shortening) -> None:
         self.paper_crawler().check_stroke(max_shortening)
+
+    def solve(self, t, shortening, cycle_bounds=None) -> ReducedResult:
+        """See :meth:`ReducedModel.solve` (:func:`solve_textured`)."""
+        return solve_textured(self, t, shortening, cycle_bounds)
+
+    def texture_laws(self) -> tuple[TextureLaw, ...]:
+        """Each bristle's law."""
+        return self.laws
 
 
 class _TextureStepper(Stepper):

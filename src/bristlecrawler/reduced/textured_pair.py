@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bristlecrawler.errors import InputError, SolverError
-from bristlecrawler.reduced.texture import TextureLaw
+from bristlecrawler.results.texture import TextureLaw
 
 
 @dataclass(frozen=True)

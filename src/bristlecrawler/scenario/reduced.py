@@ -164,7 +164,7 @@ def read_texture(path: str | Path):
 
     from bristlecrawler._files import MAX_SMALL_BYTES, read_bytes
     from bristlecrawler.errors import InputError
-    from bristlecrawler.reduced.texture import TextureLaw
+    from bristlecrawler.results.texture import TextureLaw
 
     try:
         data = json.loads(read_bytes(path, MAX_SMALL_BYTES))

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from bristlecrawler.reduced.metrics import DESIGN_OUTPUTS, DesignMetrics
+from bristlecrawler.results.metrics import DESIGN_OUTPUTS, DesignMetrics
 
 #: name -> (unit, description); every design of every model gives all of them.
 OUTPUTS: dict[str, tuple[str, str]] = DESIGN_OUTPUTS
@@ -39,7 +39,7 @@ def evaluate_fe(scenario: dict[str, Any]) -> dict[str, Any]:
 
 
 def _fe_outputs(history, cycles) -> dict[str, float]:
-    metrics = DesignMetrics.from_summary(history.summary(), cycles)
+    metrics = DesignMetrics.from_summary(history.summary().to_dict(), cycles)
     return {k: float(v) for k, v in metrics.to_dict().items()}
 
 

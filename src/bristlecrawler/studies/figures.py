@@ -15,17 +15,18 @@ from pathlib import Path
 
 import numpy as np
 
+from bristlecrawler.results import keys as result_keys
 from bristlecrawler.studies.evaluate import OUTPUTS, DesignStatus
 
 PLOTTED = (
-    "net_advance_mm",
-    "advance_per_cycle_mm",
-    "work_mJ",
-    "cost_of_transport_mJ_per_mm",
+    result_keys.NET_ADVANCE_MM,
+    result_keys.ADVANCE_PER_CYCLE_MM,
+    result_keys.WORK_MJ,
+    result_keys.COST_OF_TRANSPORT,
     "mean_abs_connector_force_N",
-    "max_abs_connector_force_N",
+    result_keys.MAX_ABS_CONNECTOR_FORCE_N,
 )
-MAPPED = ("advance_per_cycle_mm", "cost_of_transport_mJ_per_mm")
+MAPPED = (result_keys.ADVANCE_PER_CYCLE_MM, result_keys.COST_OF_TRANSPORT)
 MAX_POINTS = 20_000
 MAX_LINES = 8
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bristlecrawler.results import keys
 from bristlecrawler.viz.reduced import SLIP_STYLE, STICK_STYLE, pyplot
 
 
@@ -25,14 +26,14 @@ def plot_drag(r, title: str = ""):
         if mask.any():
             ax.plot(r.x, np.where(mask, r.force_x, np.nan), label=label, **style)
     s = r.summary()
-    if np.isfinite(s["fp_N"]):
-        ax.axhline(s["fp_N"], color="tab:green", lw=1.0, label=f"F_p = {s['fp_N']:.3f} N")
-    if np.isfinite(s["fn_N"]):
-        ax.axhline(-s["fn_N"], color="tab:purple", lw=1.0, label=f"-F_n = {-s['fn_N']:.3f} N")
-    k = s["k_N_per_mm"]
+    if np.isfinite(s[keys.FP_N]):
+        ax.axhline(s[keys.FP_N], color="tab:green", lw=1.0, label=f"F_p = {s[keys.FP_N]:.3f} N")
+    if np.isfinite(s[keys.FN_N]):
+        ax.axhline(-s[keys.FN_N], color="tab:purple", lw=1.0, label=f"-F_n = {-s[keys.FN_N]:.3f} N")
+    k = s[keys.K_N_PER_MM]
     if np.isfinite(k):
         d = r.legs[0][2]
-        target = d * (s["fp_N"] if d > 0 else s["fn_N"])
+        target = d * (s[keys.FP_N] if d > 0 else s[keys.FN_N])
         xs = r.x[0] + d * np.array([0.0, abs(target - r.force_x[0]) / k])
         ax.plot(xs, [r.force_x[0], target], "k:", lw=1.2, label=f"k = {k:.3f} N/mm")
     ax.set_xlabel("carriage travel (mm)")

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResult
+from bristlecrawler.results import keys
 
 
 def run_drag(ctx: Context) -> PartResult:
@@ -43,7 +44,7 @@ def run_drag(ctx: Context) -> PartResult:
         "first-loading slope k marked.",
     )
     save_figure(plot_drag(r, title="paper bristle: drag test"), ctx.folder / fig.path)
-    k, fp, fn = s["k_N_per_mm"], s["fp_N"], s["fn_N"]
+    k, fp, fn = s[keys.K_N_PER_MM], s[keys.FP_N], s[keys.FN_N]
     lines = [
         f"One bristle of `paper` ({ctx.settings.elements} elements) dragged along and "
         f"against the grain over {test.distance:g} mm legs at {test.speed:g} mm/s under its "
@@ -53,7 +54,7 @@ def run_drag(ctx: Context) -> PartResult:
         f"mean along the grain), F_n = **{_n(fn)} N** (against it); mu times the load "
         f"{s['mu_load_N']:.3f} N",
     ]
-    values = {"k_N_per_mm": _v(k), "fp_N": _v(fp), "fn_N": _v(fn), "load_N": s["load_N"]}
+    values = {keys.K_N_PER_MM: _v(k), keys.FP_N: _v(fp), keys.FN_N: _v(fn), "load_N": s["load_N"]}
     check = _prediction(ctx, k, fp, fn)
     if check is not None:
         values["prediction"] = check
@@ -69,13 +70,13 @@ def _prediction(ctx: Context, k: float, fp: float, fn: float) -> dict | None:
     """The reduced model fed with the drag test's parameters over the FE run's cycles, or
     None when the FE run or a parameter is missing."""
     from bristlecrawler.reduced import ReducedCrawler, Sin2Stroke, simulate
-    from bristlecrawler.reduced.metrics import NET_ADVANCE_MM
+    from bristlecrawler.results.keys import NET_ADVANCE_MM
 
     fe = ctx.value("fe-paper", NET_ADVANCE_MM)
     cycles = ctx.value("fe-paper", "cycles")
     if fe is None or not all(math.isfinite(v) and v > 0 for v in (k, fp, fn)):
         return None
-    crawler = ReducedCrawler.from_drag({"k_N_per_mm": k, "fp_N": fp, "fn_N": fn})
+    crawler = ReducedCrawler.from_drag({keys.K_N_PER_MM: k, keys.FP_N: fp, keys.FN_N: fn})
     res = simulate(crawler, Sin2Stroke(20.0, 20.0), cycles=cycles)
     return {"cycles": cycles, "reduced_mm": res.net_advance, "fe_mm": fe}
 

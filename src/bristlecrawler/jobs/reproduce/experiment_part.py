@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResult
+from bristlecrawler.results import keys
 
 #: The synthetic trial's reduced model: the paper's calibration (Section 4).
 SYNTH_FP_N = 0.456
@@ -71,28 +72,28 @@ def run_experiment(ctx: Context) -> PartResult:
     else:
         source = f"the recording `{path}`"
     ci = s["fp_over_k_ci_mm"]
-    per_cycle = ", ".join(f"{a:.2f}" for a in s["advance_per_cycle_mm"])
+    per_cycle = ", ".join(f"{a:.2f}" for a in s[keys.ADVANCE_PER_CYCLE_MM])
     lines = [
         f"Analysed: {source}.",
         "",
-        f"* {s['cycles']} cycles, net advance **{s['net_advance_mm']:.2f} mm** "
+        f"* {s['cycles']} cycles, net advance **{s[keys.NET_ADVANCE_MM]:.2f} mm** "
         f"(per cycle: {per_cycle} mm; paper: about 82 mm over five cycles, ± 1 mm).",
         f"* F_p/k = **{_num(s['fp_over_k_mm'], 3)} mm**, 95 % interval "
         f"[{_num(ci[0], 3)}, {_num(ci[1], 3)}] mm over the cycles; from the net advance "
         f"alone {_num(s['fp_over_k_from_advance_mm'], 3)} mm (paper: 0.95 mm).",
         f"* {len(s['transitions'])} stick/slip transitions detected.",
     ]
-    if "fp_N" in s:
+    if keys.FP_N in s:
         lines.append(
-            f"* From the force channel: F_p = {_num(s['fp_N'], 3)} N, "
-            f"k = {_num(s['k_N_per_mm'], 3)} N/mm."
+            f"* From the force channel: F_p = {_num(s[keys.FP_N], 3)} N, "
+            f"k = {_num(s[keys.K_N_PER_MM], 3)} N/mm."
         )
     lines += [f"* note: {n}" for n in s["notes"]]
     values = {
         "source": "synthetic" if path is None else str(path),
         "cycles": s["cycles"],
-        "net_advance_mm": s["net_advance_mm"],
-        "advance_per_cycle_mm": s["advance_per_cycle_mm"],
+        keys.NET_ADVANCE_MM: s[keys.NET_ADVANCE_MM],
+        keys.ADVANCE_PER_CYCLE_MM: s[keys.ADVANCE_PER_CYCLE_MM],
         "fp_over_k_mm": s["fp_over_k_mm"],
         "fp_over_k_ci_mm": ci,
     }

@@ -14,6 +14,7 @@ import dataclasses
 import numpy as np
 
 from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResult
+from bristlecrawler.results import keys
 
 
 def scenario(name: str, ctx: Context, sets: list[str]):
@@ -48,7 +49,7 @@ def solve(sc, ctx: Context, share: tuple[float, float] = (0.0, 1.0)):
 
 def run_paper(ctx: Context) -> PartResult:
     from bristlecrawler.jobs.simulate import frame_subset, summarize
-    from bristlecrawler.reduced.metrics import RunMetrics
+    from bristlecrawler.results.metrics import RunMetrics
     from bristlecrawler.viz.crawler import animate, plot_connector, plot_delta_vs_s, plot_shapes
     from bristlecrawler.viz.reduced import save_figure
 
@@ -94,8 +95,13 @@ def run_paper(ctx: Context) -> PartResult:
         f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations",
     ]
     lines += [f"* warning: {w}" for w in summary["warnings"]]
-    keys = ("mean_abs_connector_force_N", "energy_balance_rel_error", "steps", "wall_time_s")
-    values = metrics.to_dict() | {k: summary[k] for k in keys}
+    extra = (
+        keys.MEAN_ABS_CONNECTOR_FORCE_N,
+        keys.ENERGY_BALANCE_REL_ERROR,
+        keys.STEPS,
+        keys.WALL_TIME_S,
+    )
+    values = metrics.to_dict() | {k: summary[k] for k in extra}
     values |= {"cycles": n, "elements": sc.bristle.elements}
     return PartResult("fe-paper", values=values, figures=figs, lines=tuple(lines))
 
@@ -122,7 +128,7 @@ def run_vertical(ctx: Context) -> PartResult:
     adv = np.array([h.net_advance for _, h in runs])
     mean = float(adv.mean())
     sem = float(adv.std(ddof=1) / np.sqrt(adv.size)) if adv.size > 1 else float("nan")
-    inclined = ctx.value("fe-paper", "advance_per_cycle_mm")
+    inclined = ctx.value("fe-paper", keys.ADVANCE_PER_CYCLE_MM)
     fig = Figure(
         "fe-vertical.png",
         "alpha = 0: Delta(s) of one cycle from each starting "
@@ -154,7 +160,7 @@ def run_vertical(ctx: Context) -> PartResult:
     values = {
         "advance_per_cycle_mean_mm": mean,
         "advance_per_cycle_sem_mm": None if np.isnan(sem) else sem,
-        "advance_per_cycle_mm": adv.tolist(),
+        keys.ADVANCE_PER_CYCLE_MM: adv.tolist(),
         "starting_places_mm": [p for p, _ in runs],
         "failed_starting_places": len(failed),
     }

@@ -4,6 +4,7 @@ the paper's numbers (82 mm and 75 mJ over five cycles) and from our own FE run."
 from __future__ import annotations
 
 from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResult
+from bristlecrawler.results import keys
 
 #: The paper's stroke (mm), cycles, advance (mm) and FE work (mJ) that fix F_p/k, F_p, k.
 S_MAX_MM, CYCLES, ADVANCE_MM, WORK_MJ = 20.0, 5, 82.0, 75.0
@@ -11,7 +12,7 @@ S_MAX_MM, CYCLES, ADVANCE_MM, WORK_MJ = 20.0, 5, 82.0, 75.0
 
 def run_reduced(ctx: Context) -> PartResult:
     from bristlecrawler.reduced import ReducedCrawler, Sin2Stroke, calibrate, simulate
-    from bristlecrawler.reduced.metrics import RunMetrics
+    from bristlecrawler.results.metrics import RunMetrics
     from bristlecrawler.viz.reduced import plot_delta_vs_s, plot_friction_law, save_figure
 
     cal = calibrate(S_MAX_MM, CYCLES, ADVANCE_MM, WORK_MJ)
@@ -57,7 +58,7 @@ def _from_fe(ctx: Context) -> dict | None:
     """F_p/k, F_p and k that the FE run's own advance and work give, or None without it."""
     from bristlecrawler.errors import InputError
     from bristlecrawler.reduced import calibrate
-    from bristlecrawler.reduced.metrics import NET_ADVANCE_MM, WORK_MJ
+    from bristlecrawler.results.keys import NET_ADVANCE_MM, WORK_MJ
 
     advance, work = ctx.value("fe-paper", NET_ADVANCE_MM), ctx.value("fe-paper", WORK_MJ)
     cycles = ctx.value("fe-paper", "cycles")
@@ -67,7 +68,7 @@ def _from_fe(ctx: Context) -> dict | None:
         cal = calibrate(S_MAX_MM, cycles, advance, work)
     except InputError as exc:  # an FE gait outside the closed forms' reach
         return {"error": str(exc)}
-    return cal.as_dict() | {"cycles": cycles, "advance_mm": advance, "work_mJ": work}
+    return cal.as_dict() | {"cycles": cycles, "advance_mm": advance, keys.WORK_MJ: work}
 
 
 def _fe_line(ours: dict | None) -> str:
@@ -76,9 +77,9 @@ def _fe_line(ours: dict | None) -> str:
     if "error" in ours:
         return f"* not possible: {ours['error']}"
     return (
-        f"* {ours['cycles']} cycle(s), {ours['advance_mm']:.2f} mm, {ours['work_mJ']:.2f} mJ: "
-        f"F_p/k = **{ours['fp_over_k_mm']:.3f} mm**, F_p = **{ours['fp_N']:.3f} N**, "
-        f"k = **{ours['k_N_per_mm']:.3f} N/mm**"
+        f"* {ours['cycles']} cycle(s), {ours['advance_mm']:.2f} mm, {ours[keys.WORK_MJ]:.2f} mJ: "
+        f"F_p/k = **{ours['fp_over_k_mm']:.3f} mm**, F_p = **{ours[keys.FP_N]:.3f} N**, "
+        f"k = **{ours[keys.K_N_PER_MM]:.3f} N/mm**"
     )
 
 

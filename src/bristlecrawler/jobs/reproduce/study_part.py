@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from bristlecrawler.jobs.reproduce.parts import Context, Figure, Part, PartResult
-from bristlecrawler.reduced.metrics import NET_ADVANCE_MM
+from bristlecrawler.results import keys
+from bristlecrawler.results.keys import NET_ADVANCE_MM
 
 REDUCED_STUDY = """\
 name = "grip"
@@ -93,7 +94,7 @@ def run_study(ctx: Context) -> PartResult:
     ]
     outputs = {
         "net advance, 5 cycles (mm)": red[NET_ADVANCE_MM].values,
-        "work, 5 cycles (mJ)": red["work_mJ"].values,
+        "work, 5 cycles (mJ)": red[keys.WORK_MJ].values,
     }
     save_figure(
         plot_study(c, outputs, "F_p/k (mm)", "reduced model: grip", _failed(red)),
@@ -141,7 +142,7 @@ def _fe_inclination(ctx: Context):
     )
     outputs = {
         "advance, 1 cycle (mm)": ds[NET_ADVANCE_MM].values,
-        "work, 1 cycle (mJ)": ds["work_mJ"].values,
+        "work, 1 cycle (mJ)": ds[keys.WORK_MJ].values,
     }
     from bristlecrawler.scenario.load import load_scenario
 

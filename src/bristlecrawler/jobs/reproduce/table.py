@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 from bristlecrawler.jobs.reproduce.parts import Context
+from bristlecrawler.results import keys
 
 FINDINGS = "findings.md"
 VALIDATION = "validation.md"
@@ -146,7 +147,7 @@ def _missing(ctx: Context, part: str, otherwise: str = "not available") -> str:
 
 
 def _mean_cycle(ctx: Context):
-    v = ctx.value("fe-paper", "advance_per_cycle_mm")
+    v = ctx.value("fe-paper", keys.ADVANCE_PER_CYCLE_MM)
     n = ctx.value("fe-paper", "cycles")
     if v is None:
         return None, _missing(ctx, "fe-paper"), "FE, alpha = pi/4"
@@ -182,7 +183,7 @@ def _recording(ctx: Context):
 
 
 def _recording_advance(ctx: Context):
-    v, n = ctx.value("experiment", "net_advance_mm"), ctx.value("experiment", "cycles")
+    v, n = ctx.value("experiment", keys.NET_ADVANCE_MM), ctx.value("experiment", "cycles")
     if v is None:
         return None, "no analysis", "recording"
     if n != 5:
@@ -204,7 +205,7 @@ def _no_advance(ctx: Context, spec: RowSpec) -> tuple[str, str] | None:
     """The verdict of :func:`no_advance_verdict` on the cycles of the starting places."""
     from bristlecrawler.jobs.reproduce.verdict import no_advance_verdict
 
-    cycles = ctx.value("fe-vertical", "advance_per_cycle_mm")
+    cycles = ctx.value("fe-vertical", keys.ADVANCE_PER_CYCLE_MM)
     if not cycles:
         return None
     v = no_advance_verdict(cycles, spec.tol, spec.unit)
@@ -230,18 +231,18 @@ def _vertical(ctx: Context):
 
 ROWS: tuple[RowSpec, ...] = (
     RowSpec(
-        "net_advance_mm",
+        keys.NET_ADVANCE_MM,
         "net advance over five cycles (FE)",
         "mm",
         82.0,
         "82 ± 4",
-        _fe("net_advance_mm", five=True),
+        _fe(keys.NET_ADVANCE_MM, five=True),
         4.0,
         WHY_ADVANCE,
         PITCH,
     ),
     RowSpec(
-        "advance_per_cycle_mm",
+        keys.ADVANCE_PER_CYCLE_MM,
         "advance per cycle (FE)",
         "mm",
         16.4,
@@ -252,12 +253,12 @@ ROWS: tuple[RowSpec, ...] = (
         PITCH,
     ),
     RowSpec(
-        "work_mJ",
+        keys.WORK_MJ,
         "work over five cycles (FE)",
         "mJ",
         75.0,
         "about 75",
-        _fe("work_mJ", five=True),
+        _fe(keys.WORK_MJ, five=True),
         7.5,
         WHY_WORK,
         WORK,
@@ -284,20 +285,22 @@ ROWS: tuple[RowSpec, ...] = (
         WHY_ADVANCE,
         PITCH,
     ),
-    RowSpec("fp_N", "F_p", "N", 0.45, "0.45", _calibrated("fp_N"), 0.045, WHY_CALIBRATED, WORK),
     RowSpec(
-        "k_N_per_mm",
+        keys.FP_N, "F_p", "N", 0.45, "0.45", _calibrated(keys.FP_N), 0.045, WHY_CALIBRATED, WORK
+    ),
+    RowSpec(
+        keys.K_N_PER_MM,
         "k",
         "N/mm",
         0.48,
         "0.48",
-        _calibrated("k_N_per_mm"),
+        _calibrated(keys.K_N_PER_MM),
         0.048,
         WHY_CALIBRATED,
         WORK,
     ),
     RowSpec(
-        "fp_drag_N", "F_p (drag test)", "N", 0.45, "0.45", _drag("fp_N"), 0.045, WHY_DRAG, DRAG
+        "fp_drag_N", "F_p (drag test)", "N", 0.45, "0.45", _drag(keys.FP_N), 0.045, WHY_DRAG, DRAG
     ),
     RowSpec(
         "k_drag_N_per_mm",
@@ -305,7 +308,7 @@ ROWS: tuple[RowSpec, ...] = (
         "N/mm",
         0.48,
         "0.48",
-        _drag("k_N_per_mm"),
+        _drag(keys.K_N_PER_MM),
         0.048,
         WHY_DRAG,
         DRAG,

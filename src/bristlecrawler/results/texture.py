@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bristlecrawler.errors import InputError
-from bristlecrawler.reduced._checks import positive
+from bristlecrawler.errors import InputError, positive
+from bristlecrawler.results.keys import FN_N, FP_N, K_N_PER_MM
 
 
 def _cells(name: str, values, n: int | None = None, allow_inf: bool = False) -> np.ndarray:
@@ -176,9 +176,9 @@ class TextureLaw:
             "cell_mm": self.cell_mm,
             "origin_mm": self.origin_mm,
             "tip_offset_mm": self.tip_offset_mm,
-            "k_N_per_mm": self.k_N_per_mm,
-            "fp_N": self.fp_N.tolist(),
-            "fn_N": [v if np.isfinite(v) else "inf" for v in self.fn_N.tolist()],
+            K_N_PER_MM: self.k_N_per_mm,
+            FP_N: self.fp_N.tolist(),
+            FN_N: [v if np.isfinite(v) else "inf" for v in self.fn_N.tolist()],
             "walls_mm": list(self.walls_mm),
             "lock_positions_mm": self.lock_positions_mm.tolist(),
         }
@@ -187,12 +187,12 @@ class TextureLaw:
     def from_dict(cls, d: dict) -> TextureLaw:
         """Inverse of :meth:`to_dict`."""
         try:
-            fn = [np.inf if v == "inf" else float(v) for v in d["fn_N"]]
+            fn = [np.inf if v == "inf" else float(v) for v in d[FN_N]]
             return cls(
                 pitch_mm=d["pitch_mm"],
-                fp_N=d["fp_N"],
+                fp_N=d[FP_N],
                 fn_N=fn,
-                k_N_per_mm=d["k_N_per_mm"],
+                k_N_per_mm=d[K_N_PER_MM],
                 origin_mm=d.get("origin_mm", 0.0),
                 tip_offset_mm=d.get("tip_offset_mm", 0.0),
                 walls_mm=tuple(d.get("walls_mm", ())),

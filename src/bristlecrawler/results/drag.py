@@ -1,22 +1,29 @@
 """What a drag test of one bristle gives the reduced model, as a typed result.
 
-The drag test itself (:mod:`bristlecrawler.crawler.drag`) is FE; its summary lives here,
-beside the reduced crawler that reads it (:meth:`ReducedCrawler.from_drag`), so that both
-layers share one type. ``to_dict`` gives the keys of the drag test's ``summary.json``.
+The drag test itself (:mod:`bristlecrawler.crawler.drag`) is FE; its summary lives in the
+results layer, below both the FE crawler that writes it and the reduced crawler that
+reads it (:meth:`ReducedCrawler.from_drag`), so that both share one type. ``to_dict``
+gives the keys of the drag test's ``summary.json``.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from bristlecrawler.reduced.texture import TextureLaw
-
-#: JSON keys of the three parameters of the paper's reduced model (units in the names).
-K_N_PER_MM = "k_N_per_mm"
-FP_N = "fp_N"
-FN_N = "fn_N"
+from bristlecrawler.errors import InputError
+from bristlecrawler.results.keys import (
+    ENERGY_BALANCE_REL_ERROR,
+    K_N_PER_MM,
+    NEWTON_ITERATIONS,
+    SETTLE_CREEP_MM,
+    SETTLE_SPEED_MM_S,
+    STEPS,
+    WALL_TIME_S,
+)
+from bristlecrawler.results.texture import TextureLaw
 
 
 def _number(value: Any) -> float:
@@ -69,17 +76,6 @@ class Sliding:
             _number(data.get(f"{name}_peak_N")),
             int(data.get(f"{name}_pitches", 0)),
         )
-
-
-def summary_of(drag) -> DragSummary | dict[str, Any]:
-    """What a reduced crawler reads of a drag test: its :class:`DragSummary` (given, or
-    from anything with ``summarize()``), or the summary mapping it was given as (anything
-    with ``summary()``, or a mapping)."""
-    if isinstance(drag, DragSummary):
-        return drag
-    if hasattr(drag, "summarize"):
-        return drag.summarize()
-    return drag.summary() if hasattr(drag, "summary") else drag
 
 
 @dataclass(frozen=True)
@@ -151,13 +147,13 @@ class DragSummary:
             "mu_load_N": self.mu_load,
             "load_N": self.load,
             "dissipation_mJ_per_mm": self.dissipation_per_mm,
-            "energy_balance_rel_error": self.energy_balance_rel_error,
-            "steps": self.steps,
-            "newton_iterations": self.newton_iterations,
-            "wall_time_s": self.wall_time,
+            ENERGY_BALANCE_REL_ERROR: self.energy_balance_rel_error,
+            STEPS: self.steps,
+            NEWTON_ITERATIONS: self.newton_iterations,
+            WALL_TIME_S: self.wall_time,
             "texture": self.texture.to_dict() if self.texture is not None else None,
-            "settle_speed_mm_s": self.settle_speed,
-            "settle_creep_mm": self.settle_creep,
+            SETTLE_SPEED_MM_S: self.settle_speed,
+            SETTLE_CREEP_MM: self.settle_creep,
         }
 
     @classmethod
@@ -174,11 +170,28 @@ class DragSummary:
             mu_load=_number(data.get("mu_load_N")),
             load=_number(data.get("load_N")),
             dissipation_per_mm=_number(data.get("dissipation_mJ_per_mm")),
-            energy_balance_rel_error=_number(data.get("energy_balance_rel_error")),
-            steps=int(data.get("steps", 0)),
-            newton_iterations=int(data.get("newton_iterations", 0)),
-            wall_time=_number(data.get("wall_time_s")),
+            energy_balance_rel_error=_number(data.get(ENERGY_BALANCE_REL_ERROR)),
+            steps=int(data.get(STEPS, 0)),
+            newton_iterations=int(data.get(NEWTON_ITERATIONS, 0)),
+            wall_time=_number(data.get(WALL_TIME_S)),
             texture=TextureLaw.from_dict(law) if isinstance(law, dict) else law,
-            settle_speed=_number(data.get("settle_speed_mm_s")),
-            settle_creep=_number(data.get("settle_creep_mm")),
+            settle_speed=_number(data.get(SETTLE_SPEED_MM_S)),
+            settle_creep=_number(data.get(SETTLE_CREEP_MM)),
         )
+
+
+def summary_of(drag) -> DragSummary:
+    """What a reduced crawler reads of a drag test, typed: the :class:`DragSummary` given,
+    or read from a drag test's result (its ``summarize()``, or the mapping its
+    ``summary()`` gives) or from a summary mapping (a ``summary.json``)."""
+    if isinstance(drag, DragSummary):
+        return drag
+    if hasattr(drag, "summarize"):
+        return drag.summarize()
+    if hasattr(drag, "summary"):
+        drag = drag.summary()
+    if isinstance(drag, DragSummary):
+        return drag
+    if not isinstance(drag, Mapping):
+        raise InputError(f"not a drag test's summary: {type(drag).__name__}")
+    return DragSummary.from_dict(drag)

@@ -1,5 +1,8 @@
 """What a crawler run gives, as typed results, whatever the model (reduced, FE, closed form).
 
+The results layer: the FE crawler, the reduced models, the studies and the jobs all
+import it, and it imports none of them.
+
 * :class:`RunMetrics`: the motion of one run and its cost (net advance, advance of each
   cycle, actuator work), what the reduced job, the prediction and the report print.
 * :class:`DesignMetrics`: the outputs a design study records for each design.
@@ -16,10 +19,19 @@ from typing import Any
 
 import numpy as np
 
-#: JSON keys that both results write (units in the names).
-NET_ADVANCE_MM = "net_advance_mm"
-ADVANCE_PER_CYCLE_MM = "advance_per_cycle_mm"
-WORK_MJ = "work_mJ"
+from bristlecrawler.results.keys import (
+    ADVANCE_PER_CYCLE_MM,
+    COST_OF_TRANSPORT,
+    ENERGY_BALANCE_REL_ERROR,
+    LAST_CYCLE_ADVANCE_MM,
+    MAX_ABS_CONNECTOR_FORCE_N,
+    MEAN_ABS_CONNECTOR_FORCE_N,
+    NET_ADVANCE_MM,
+    NEWTON_ITERATIONS,
+    STEPS,
+    WALL_TIME_S,
+    WORK_MJ,
+)
 
 
 @dataclass(frozen=True)
@@ -74,34 +86,34 @@ _DESIGN_OUTPUTS: dict[str, tuple[str, str, str]] = {
         "net advance divided by the number of cycles",
     ),
     "last_cycle_advance": (
-        "last_cycle_advance_mm",
+        LAST_CYCLE_ADVANCE_MM,
         "mm",
         "advance of the last cycle (the steady gait)",
     ),
     "work": (WORK_MJ, "mJ", "actuator (connector) work over the run"),
     "cost_of_transport": (
-        "cost_of_transport_mJ_per_mm",
+        COST_OF_TRANSPORT,
         "mJ/mm",
         "work per mm of net advance (NaN where the crawler does not advance)",
     ),
     "mean_abs_connector_force": (
-        "mean_abs_connector_force_N",
+        MEAN_ABS_CONNECTOR_FORCE_N,
         "N",
         "time mean of the actuator force |F_c|",
     ),
-    "max_abs_connector_force": ("max_abs_connector_force_N", "N", "largest actuator force |F_c|"),
+    "max_abs_connector_force": (MAX_ABS_CONNECTOR_FORCE_N, "N", "largest actuator force |F_c|"),
     "energy_balance_rel_error": (
-        "energy_balance_rel_error",
+        ENERGY_BALANCE_REL_ERROR,
         "1",
         "energy-balance residual relative to the work",
     ),
-    "steps": ("steps", "1", "time steps (fe) or samples (reduced exact solver; 0: closed form)"),
+    "steps": (STEPS, "1", "time steps (fe) or samples (reduced exact solver; 0: closed form)"),
     "newton_iterations": (
-        "newton_iterations",
+        NEWTON_ITERATIONS,
         "1",
         "Newton iterations (fe; 0 for the reduced model)",
     ),
-    "wall_time": ("wall_time_s", "s", "wall time of the design on its worker"),
+    "wall_time": (WALL_TIME_S, "s", "wall time of the design on its worker"),
 }
 
 #: JSON key -> (unit, description) of every output of a design, any model.
@@ -191,7 +203,7 @@ class DesignMetrics:
             mean_abs_connector_force=get("mean_abs_connector_force"),
             max_abs_connector_force=get("max_abs_connector_force"),
             energy_balance_rel_error=get("energy_balance_rel_error"),
-            steps=get("steps"),
+            steps=get(STEPS),
             newton_iterations=get("newton_iterations"),
             wall_time=get("wall_time", None),
         )
