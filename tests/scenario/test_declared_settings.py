@@ -146,7 +146,8 @@ def _upper(bounds):
 def test_the_solver_ranges_lie_within_the_fe_core_ranges():
     """The crawler narrows a setting's range, never widens it: a value the [solver] table
     takes, NewtonOptions and StepControl take too."""
-    fe_settings = {f.name: f for c in (fe.NewtonOptions, fe.StepControl) for f in settings_of(c)}
+    owners = (fe.NewtonOptions, fe.StepControl)
+    fe_settings = {f.name: f for c in owners for f in settings_of(c)}
     shared = [f for f in settings_of(Solver) if f.name in fe_settings]
     assert len(shared) == 8
     for f in shared:

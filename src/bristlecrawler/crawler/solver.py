@@ -16,11 +16,11 @@ from typing import Literal
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.control import StepControl
 from bristlecrawler.fe.newton import NewtonOptions
-from bristlecrawler.fe.options import check_settings, setting, setting_of
+from bristlecrawler.fe.options import Settings, setting, setting_of
 
 
 @dataclass(frozen=True)
-class Solver:
+class Solver(Settings):
     """Implicit dynamics (HHT-alpha) with adaptive steps, and its Newton settings.
 
     The Newton and step-rule settings are :class:`fe.NewtonOptions`'s and
@@ -129,9 +129,11 @@ class Solver:
     easy_iterations: int = setting_of(StepControl, "easy_iterations", structural=True)
 
     def check(self, prefix: str = "solver.") -> None:
-        """InputError naming the first setting out of its range, or an inconsistent pair
-        (settings named with ``prefix``)."""
-        check_settings(self, prefix)
+        super().check(prefix)
+
+    def rules(self, prefix: str = "solver.") -> None:
+        """InputError for an inconsistent pair (settings named with ``prefix``): the step
+        bounds, or the Newton settings' own rules."""
         if self.dt_min >= self.dt_max:
             raise InputError(f"{prefix}dt_min must be smaller than {prefix}dt_max")
         try:

@@ -21,7 +21,7 @@ import numpy as np
 
 from bristlecrawler.crawler.solver import Solver
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe.options import check_settings, renamed, setting
+from bristlecrawler.fe.options import Settings, check_settings, renamed, setting
 
 #: Largest inclination from the vertical a bristle may have, degrees.
 ALPHA_LIMIT_DEG = 80.0
@@ -44,7 +44,7 @@ def _length(default: float, doc: str, **kw) -> Any:
 
 
 @dataclass(frozen=True)
-class Body:
+class Body(Settings):
     """The rigid body: a bar through the bristles' clamps whose segments the actuator
     shortens. Each attribute is a declared setting: its meaning, unit and range are the
     ``[body]`` table's (``bristlecrawler scenario keys``)."""
@@ -69,12 +69,11 @@ class Body:
     free_pitch: bool = setting(True, "body free to pitch (else kept level)")
 
     def check(self, prefix: str = "body.") -> None:
-        """InputError naming the first setting out of its range."""
-        check_settings(self, prefix)
+        super().check(prefix)
 
 
 @dataclass(frozen=True)
-class Bristle:
+class Bristle(Settings):
     """A tapered rectangular silicone bristle (Shore A 40) clamped to the body at
     ``alpha_deg`` from the vertical (paper Section 3); linear taper from h0 at the clamp
     to h1 at the tip. Each attribute but ``position`` is a declared setting of the
@@ -140,9 +139,10 @@ class Bristle:
         return self.density * self.width * self.length * mean_h
 
     def check(self, prefix: str = "bristle.") -> None:
-        """InputError naming the first setting out of its range, or a tip thicker than
-        the clamp (settings named with ``prefix``)."""
-        check_settings(self, prefix)
+        super().check(prefix)
+
+    def rules(self, prefix: str = "bristle.") -> None:
+        """InputError for a clamp out of place or a tip thicker than the clamp."""
         if not math.isfinite(self.position):
             raise InputError(f"{prefix}position must be finite, got {self.position}")
         if self.thickness_tip > self.thickness_clamp:
@@ -156,7 +156,7 @@ class Bristle:
 
 @renamed(max_penetration="penetration_limit")
 @dataclass(frozen=True)
-class Contact:
+class Contact(Settings):
     """Contact of the bristles with the rigid substrate (penalty Coulomb friction). Each
     attribute is a declared setting of the ``[contact]`` table (``bristlecrawler scenario
     keys``); ``max_penetration``, the name of ``penetration_limit`` before, is still taken
@@ -236,12 +236,11 @@ class Contact:
     )
 
     def check(self, prefix: str = "contact.") -> None:
-        """InputError naming the first setting out of its range."""
-        check_settings(self, prefix)
+        super().check(prefix)
 
 
 @dataclass(frozen=True)
-class Damping:
+class Damping(Settings):
     """Rayleigh damping C = a0 M + a1 K: by default mass-proportional with a ratio at the
     first resonance. Each attribute is a declared setting of the ``[damping]`` table."""
 
@@ -261,12 +260,11 @@ class Damping:
         return self.kind == "stiffness" or (self.kind == "explicit" and self.a1 != 0.0)
 
     def check(self, prefix: str = "damping.") -> None:
-        """InputError naming the first setting out of its range."""
-        check_settings(self, prefix)
+        super().check(prefix)
 
 
 @dataclass(frozen=True)
-class Actuation:
+class Actuation(Settings):
     """The prescribed shortening of every body segment after the gravity step (step 2).
     Each attribute but ``history`` is a declared setting of the ``[actuation]`` table.
 
@@ -309,9 +307,10 @@ class Actuation:
         return float(one) + max(self.delays(segments))
 
     def check(self, prefix: str = "actuation.") -> None:
-        """InputError naming the first setting out of its range, or a history that is
-        not a stroke from t = 0."""
-        check_settings(self, prefix)
+        super().check(prefix)
+
+    def rules(self, prefix: str = "actuation.") -> None:
+        """InputError for a history that is not a stroke from t = 0."""
         if self.history is not None:
             t, s = (np.asarray(a, dtype=float) for a in self.history)
             if t.size < 2 or t.shape != s.shape or not np.all(np.diff(t) > 0):
@@ -409,10 +408,16 @@ class CrawlerSpec:
             raise InputError(f"a crawler needs at least 2 bristles, got {len(self.bristles)}")
         for i, b in enumerate(self.bristles):
             b.check(f"bristles[{i}].")
-        self._check_positions()
         for part in (self.contact, self.damping, self.actuation, self.solver):
             part.check()
         check_settings(self)
+        self.rules()
+
+    def rules(self) -> None:
+        """InputError for parts that do not fit together: bristles out of place, no
+        weight and no penalty load, a bristle that cannot carry its share of the weight
+        (each part's own settings checked already)."""
+        self._check_positions()
         if self.gravity == 0 and self.contact.penalty_load is None:
             raise InputError(
                 "gravity = 0 leaves no weight to press the bristles on the substrate and to "

@@ -143,6 +143,22 @@ def check_settings(obj: Any, prefix: str = "") -> None:
             raise InputError(message)
 
 
+class Settings:
+    """Base of an options dataclass whose fields are declared with :func:`setting`: its
+    ``check`` is the declared ranges (:func:`check_settings`) and then its ``rules``, the
+    rules between settings. A scenario table built from the class checks the ranges
+    itself and then runs ``rules`` alone, so each rule runs once."""
+
+    def check(self, prefix: str = "") -> None:
+        """InputError naming the first setting out of its range or breaking a rule
+        (settings named with ``prefix``)."""
+        check_settings(self, prefix)
+        self.rules(prefix)
+
+    def rules(self, prefix: str = "") -> None:
+        """InputError naming the settings that break a rule between them (none here)."""
+
+
 def _is_int(annotation: Any) -> bool:
     return annotation is int or int in typing.get_args(annotation)
 

@@ -37,7 +37,7 @@ def to_spec(sc: Scenario) -> CrawlerSpec:
     if history is None:
         return spec
     spec = dataclasses.replace(spec, actuation=dataclasses.replace(spec.actuation, history=history))
-    spec.actuation.check()
+    spec.actuation.rules()
     spec.check_stroke()
     return spec
 

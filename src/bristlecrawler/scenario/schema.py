@@ -28,7 +28,7 @@ from bristlecrawler.crawler.spec import (
     uniform_bristles,
 )
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe.options import check_settings, setting
+from bristlecrawler.fe.options import Settings, setting
 from bristlecrawler.scenario.strict import (
     SafeName,
     StrictSection,
@@ -90,7 +90,7 @@ _HISTORY_FILE = setting(
 
 
 def _actuation_rules(table) -> None:
-    Actuation(**table.model_dump(exclude={"kind", "history"})).check(prefix="")
+    Actuation(**table.model_dump(exclude={"kind", "history"})).rules(prefix="")
     if table.kind == "history" and not table.history:
         raise InputError("actuation.kind = 'history' needs actuation.history = 'file.csv'")
     if table.kind != "history" and table.history is not None:
@@ -119,7 +119,7 @@ SolverConfig = section_of(Solver, _Section, "Implicit dynamics with an adaptive 
 
 
 @dataclass(frozen=True)
-class Output:
+class Output(Settings):
     """What a run writes."""
 
     frames_per_cycle: int = setting(
@@ -128,9 +128,6 @@ class Output:
     vtk: bool = setting(True, "write the ParaView series vtk/crawler.pvd")
     figures: bool = setting(True, "write delta_vs_s.png, shapes.png and connector.png")
     animation: bool = setting(True, "write crawler.gif (and crawler.mp4 with the `video` extra)")
-
-    def check(self, prefix: str = "output.") -> None:
-        check_settings(self, prefix)
 
 
 OutputConfig = section_of(Output, _Section, "What a run writes.")
@@ -163,11 +160,12 @@ class Scenario(_Section):
 
     @model_validator(mode="after")
     def _consistent(self) -> Scenario:
-        # The rules between tables are the spec's: check the design these tables
-        # describe (with a history, its stroke is checked once the file is read).
+        # The rules between tables are the spec's (each table checked its own): check
+        # the design these tables describe (with a history, its stroke is checked once
+        # the file is read).
         spec = self.design()
         try:
-            spec.check_design()
+            spec.rules()
             if self.actuation.kind != "history":
                 spec.check_stroke()
         except InputError as exc:

@@ -76,9 +76,10 @@ def section_of(
     :func:`fe.options.setting`: one key per setting (but ``exclude``), of the setting's
     name, type and default, its meaning as the description and its range as pydantic
     bounds; ``extra`` (name -> (type, declared setting)) adds the table's own keys in
-    front (a scenario's ``bristle.count``). After the fields, the table's ``rules(table)``
-    if given, else the dataclass's own ``check(prefix=prefix)`` on the table's settings
-    (the rules between settings), so each rule has one home."""
+    front (a scenario's ``bristle.count``). After the fields (their ranges checked by
+    pydantic), the table's ``rules(table)`` if given, else the dataclass's own
+    ``rules(prefix)`` (a :class:`fe.options.Settings`: the rules between settings), so
+    each rule has one home and runs once."""
     hints = typing.get_type_hints(settings)
     fields: dict[str, Any] = {
         key: (kind, pydantic_field(declared, kind))
@@ -94,7 +95,7 @@ def section_of(
             if rules is not None:
                 rules(self)
             else:
-                settings(**self.model_dump(exclude=own)).check(prefix=prefix)
+                settings(**self.model_dump(exclude=own)).rules(prefix)
         except InputError as exc:
             raise ValueError(str(exc)) from None
         return self

@@ -30,7 +30,7 @@ from pydantic import Field, PrivateAttr, TypeAdapter, ValidationError, field_val
 from bristlecrawler.contact.substrates import Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.crawler.spec import MAX_LENGTH
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe.options import REQUIRED, check_settings, setting
+from bristlecrawler.fe.options import REQUIRED, Settings, setting
 from bristlecrawler.scenario.strict import StrictSection, section_of
 
 
@@ -44,7 +44,7 @@ def _size(doc: str) -> Any:
     return setting(REQUIRED, doc, gt=0.0, le=MAX_LENGTH)
 
 
-class _Kind:
+class _Kind(Settings):
     """The settings of one substrate kind (a frozen dataclass of settings)."""
 
     kind: ClassVar[str]
@@ -55,10 +55,11 @@ class _Kind:
         return self.shape(**{f.name: getattr(self, f.name) for f in fields(self)})
 
     def check(self, prefix: str = "substrate.") -> None:
-        """InputError naming the first setting out of its range, or a shape that cannot
-        be built."""
-        check_settings(self, prefix)
-        self.build()
+        super().check(prefix)
+
+    def rules(self, prefix: str = "substrate.") -> Any:
+        """The substrate; InputError for a shape that cannot be built (its own rules)."""
+        return self.build()
 
 
 @dataclass(frozen=True)
@@ -114,13 +115,13 @@ class PolylineSettings(_Kind):
         REQUIRED, "[[x, y], ...] over exactly one period, mm"
     )
 
-    def check(self, prefix: str = "substrate.") -> None:
+    def rules(self, prefix: str = "substrate.") -> Polyline:
         if len(self.points) < 2:
             raise InputError(f"{prefix}points needs at least 2 points, got {len(self.points)}")
         far = [v for p in self.points for v in p if not abs(v) <= MAX_LENGTH]
         if far:
             raise InputError(f"{prefix}points must be within +-{MAX_LENGTH:g} mm, got {far[0]}")
-        self.build()
+        return self.build()
 
 
 #: The substrate kinds' settings, in the order the scenario reference lists them.
@@ -156,9 +157,9 @@ def _table(settings: type[_Kind]) -> type[_Table]:
     kind = (Literal[settings.kind], setting(REQUIRED, "the substrate's kind"))
 
     def rules(table: _Table) -> None:
-        s = table.settings()
-        s.check()
-        table._built = s.build()
+        # The ranges are the table's own; the rules between settings are the shape's,
+        # checked as it is built, once.
+        table._built = table.settings().rules()
 
     extra = {}
     if settings is PolylineSettings:
