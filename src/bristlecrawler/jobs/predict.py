@@ -156,18 +156,17 @@ def predict_models(
     test's ``summary``."""
     import numpy as np
 
-    from bristlecrawler.crawler.prediction import reduced_gait, reduced_twin
+    from bristlecrawler.crawler.prediction import reduced_gait
     from bristlecrawler.reduced import simulate
-    from bristlecrawler.reduced.textured import TexturedCrawler
+    from bristlecrawler.reduced.model import ReducedModel
 
     x = np.sort([b.position for b in spec.bristles])
     crawlers = {
-        "texture": TexturedCrawler.from_drag(
+        name: ReducedModel.registered[name].from_drag(
             summary, len(x), segment_lengths=np.diff(x), start_mm=float(x[0])
         )
+        for name in (("texture", "paper") if paper else ("texture",))
     }
-    if paper:
-        crawlers["paper"] = reduced_twin(spec, summary)
     out = {}
     for name, crawler in crawlers.items():
         r = simulate(crawler, reduced_gait(spec), cycles=cycles, samples_per_cycle=400)

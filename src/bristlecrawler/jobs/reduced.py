@@ -64,10 +64,10 @@ def summarize(result: ReducedResult, config: ReducedConfig) -> dict[str, Any]:
 
 def _fp_over_k(crawler, config: ReducedConfig) -> float:
     """F_p/k of the run, mm (a texture law's: its mean F_p over its k)."""
-    if config.texture is None:
+    laws = crawler.texture_laws()
+    if laws is None:
         return float(config.fp / config.k)
-    law = crawler.laws[0]
-    return float(law.mean_fp_N / law.k_N_per_mm)
+    return float(laws[0].mean_fp_N / laws[0].k_N_per_mm)
 
 
 def reduced_estimate(config: ReducedConfig):
@@ -114,12 +114,13 @@ def run_reduced(
                 f"F_p/k={summary['fp_over_k_mm']:.3g} mm, net {result.net_advance:.2f} mm"
             )
             save_figure(plot_delta_vs_s(result, title=title), run.path / "delta_vs_s.png")
-            if config.texture is None:
-                law = plot_friction_law(crawler.friction(0))
+            laws = crawler.texture_laws()
+            if laws is None:
+                law = plot_friction_law(crawler.paper_crawler().friction(0))
                 save_figure(law, run.path / "friction_law.png")
             else:
                 from bristlecrawler.viz.drag import plot_texture
 
-                save_figure(plot_texture(crawler.laws[0]), run.path / "texture.png")
+                save_figure(plot_texture(laws[0]), run.path / "texture.png")
         run.write_json("summary.json", summary)
     return ReducedRun(result, summary, run.target, tuple(run.notes))
