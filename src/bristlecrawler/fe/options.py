@@ -130,7 +130,7 @@ def check_settings(obj: Any, prefix: str = "") -> None:
             if v not in words:
                 raise InputError(f"{name} must be one of {', '.join(map(str, words))}, got {v!r}")
             continue
-        if hints[f.name] is bool or isinstance(v, str) or isinstance(f.default, bool):
+        if hints[f.name] is bool or isinstance(f.default, bool):
             continue
         if _is_int(hints[f.name]) and not isinstance(v, numbers.Integral):
             raise InputError(f"{name} must be a whole number, got {v!r}")

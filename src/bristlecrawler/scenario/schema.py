@@ -12,7 +12,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Literal
 
-from pydantic import Field, PrivateAttr, model_validator
+from pydantic import Field, model_validator
 
 from bristlecrawler.crawler.spec import (
     MAX_LENGTH,
@@ -37,7 +37,20 @@ from bristlecrawler.scenario.strict import (
 )
 from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
 
-__all__ = ["MAX_LENGTH", "MAX_MU", "MAX_STEPS"]
+__all__ = [
+    "MAX_LENGTH",
+    "MAX_MU",
+    "MAX_STEPS",
+    "ActuationConfig",
+    "BodyConfig",
+    "BristleConfig",
+    "ContactConfig",
+    "DampingConfig",
+    "Output",
+    "OutputConfig",
+    "Scenario",
+    "SolverConfig",
+]
 
 
 class _Section(StrictSection):
@@ -156,8 +169,6 @@ class Scenario(_Section):
     solver: SolverConfig = SolverConfig()
     output: OutputConfig = OutputConfig()
 
-    _design: CrawlerSpec | None = PrivateAttr(default=None)
-
     @model_validator(mode="after")
     def _consistent(self) -> Scenario:
         # The rules between tables are the spec's (each table checked its own): check
@@ -170,15 +181,12 @@ class Scenario(_Section):
                 spec.check_stroke()
         except InputError as exc:
             raise ValueError(str(exc)) from None
-        self._design = spec
         return self
 
     def design(self) -> CrawlerSpec:
         """The :class:`CrawlerSpec` these tables describe, but a history's samples (the
         sin^2 stroke of ``actuation.s_max`` instead; :func:`~bristlecrawler.scenario.to_spec`
         reads the history)."""
-        if self._design is not None:
-            return self._design
         br, a = self.bristle, self.actuation
         template = Bristle(**br.model_dump(exclude={"count"}))
         return CrawlerSpec(

@@ -133,7 +133,13 @@ KINDS: dict[str, type[_Kind]] = {
 class _Table(StrictSection):
     """A substrate table: its kind's settings, checked and built once."""
 
+    #: The settings of the table's kind.
+    kind_settings: ClassVar[type[_Kind]]
     _built: Any = PrivateAttr(default=None)
+
+    def settings(self) -> _Kind:
+        """The table as its kind's settings."""
+        return self.kind_settings(**self.model_dump(exclude={"kind"}))
 
     def build(self):
         """The substrate of this table (built once, when the table was checked)."""
@@ -173,7 +179,7 @@ def _table(settings: type[_Kind]) -> type[_Table]:
         validators=extra,
         name=settings.__name__.replace("Settings", "Config"),
     )
-    model.settings = lambda self: settings(**self.model_dump(exclude={"kind"}))
+    model.kind_settings = settings
     return model
 
 
