@@ -154,3 +154,11 @@ def test_the_solver_ranges_lie_within_the_fe_core_ranges():
         ours, theirs = f.metadata["bounds"], fe_settings[f.name].metadata["bounds"]
         assert _lower(ours) >= _lower(theirs) and _upper(ours) <= _upper(theirs), f.name
         assert f.metadata["inf"] <= fe_settings[f.name].metadata["inf"], f.name
+
+
+def test_a_substrate_setting_out_of_its_range_says_so_as_every_other_key(tmp_path, run_cli):
+    code, _, err = run_cli(["simulate", "paper", "--set", "substrate.phase=1e308"])
+    assert code == 2 and err == (
+        "error: scenario (with --set): substrate.phase: must be <= 10000, got 1e+308 "
+        "(x of a groove's left wall, mm)\n"
+    )

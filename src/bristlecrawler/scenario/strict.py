@@ -120,7 +120,7 @@ def first_error_message(
     from the field's description."""
     err = exc.errors()[0]
     loc = [p for p in err.get("loc", ()) if p != "__root__"]
-    msg = _bound_message(err) or str(err.get("msg", "invalid value"))
+    msg = bound_message(err) or str(err.get("msg", "invalid value"))
     msg = msg.removeprefix("Value error, ")
     what = _description(model, loc) if model is not None else None
     shown = [names.get(p, p) if names and i == 0 else p for i, p in enumerate(loc)]
@@ -141,7 +141,7 @@ _BOUNDS = {
 }
 
 
-def _bound_message(err: dict) -> str | None:
+def bound_message(err: dict) -> str | None:
     """``must be <= 1e+07, got 1e+308`` for a bound pydantic checked (its own message
     spells 1e-9 as 0.000000001)."""
     if err.get("type") == "finite_number":

@@ -31,7 +31,7 @@ from bristlecrawler.contact.substrates import Flat, Grooves, Polyline, Sawtooth
 from bristlecrawler.crawler.spec import MAX_LENGTH
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.options import REQUIRED, Settings, setting
-from bristlecrawler.scenario.strict import StrictSection, section_of
+from bristlecrawler.scenario.strict import StrictSection, bound_message, section_of
 
 
 def _level(default: Any, doc: str) -> Any:
@@ -221,4 +221,15 @@ def parse_substrate(table: Mapping[str, Any]) -> Any:
         loc = [str(x) for x in err["loc"]]
         if loc and loc[0] in KINDS:  # the union's tag, not a key of the table
             loc = loc[1:]
-        raise InputError(f"substrate.{'.'.join(loc) or 'kind'}: {err['msg']}") from None
+        raise InputError(f"substrate.{'.'.join(loc) or 'kind'}: {_message(err)}") from None
+
+
+def _message(err: dict) -> str:
+    """A bound's message as every other key's (``must be <= 1e+04, got 1e+308``, what
+    the key is), else pydantic's own."""
+    bound = bound_message(err)
+    loc = [str(x) for x in err["loc"]]
+    if bound is None or len(loc) < 2 or loc[0] not in KINDS:
+        return str(err["msg"])
+    what = SUBSTRATE_KINDS[loc[0]].model_fields[loc[1]].description
+    return f"{bound} ({what})"
