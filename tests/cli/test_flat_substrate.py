@@ -21,7 +21,9 @@ def test_a_flat_substrate_runs_with_corner_contact_left_on(command, run_cli, tmp
         built.append([type(t) for t in crawler.model.terms])
         raise _Built
 
+    # The drag test holds its own name for the runner's function once imported.
     monkeypatch.setattr("bristlecrawler.crawler.runner.run_stages", stand_in)
+    monkeypatch.setattr("bristlecrawler.crawler.drag.run_stages", stand_in)
     args = [command, "paper", "--set", "substrate.kind=flat", "--out", str(tmp_path / "run")]
     with pytest.raises(_Built):
         run_cli(args)
