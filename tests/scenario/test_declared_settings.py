@@ -12,6 +12,7 @@ from bristlecrawler import fe
 from bristlecrawler.crawler import Actuation, Body, Bristle, Contact, CrawlerSpec, Damping, Solver
 from bristlecrawler.crawler.structure import STRUCTURE_KEYS
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.hht import HHT
 from bristlecrawler.fe.options import own_defaults, settings_of
 from bristlecrawler.scenario import load_scenario, scenario_from_dict, to_spec
 from bristlecrawler.scenario.keys import scenario_keys
@@ -145,11 +146,12 @@ def _upper(bounds):
 
 def test_the_solver_ranges_lie_within_the_fe_core_ranges():
     """The crawler narrows a setting's range, never widens it: a value the [solver] table
-    takes, NewtonOptions and StepControl take too."""
-    owners = (fe.NewtonOptions, fe.StepControl)
+    takes, HHT, NewtonOptions and StepControl take too."""
+    owners = (HHT, fe.NewtonOptions, fe.StepControl)
     fe_settings = {f.name: f for c in owners for f in settings_of(c)}
+    fe_settings["hht_alpha"] = fe_settings["alpha"]
     shared = [f for f in settings_of(Solver) if f.name in fe_settings]
-    assert len(shared) == 8
+    assert len(shared) == 10
     for f in shared:
         ours, theirs = f.metadata["bounds"], fe_settings[f.name].metadata["bounds"]
         assert _lower(ours) >= _lower(theirs) and _upper(ours) <= _upper(theirs), f.name

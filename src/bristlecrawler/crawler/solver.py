@@ -15,6 +15,8 @@ from typing import Literal
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.control import StepControl
+from bristlecrawler.fe.hht import HHT
+from bristlecrawler.fe.integrator import Integrator
 from bristlecrawler.fe.newton import NewtonOptions
 from bristlecrawler.fe.options import Settings, setting, setting_of
 
@@ -23,13 +25,14 @@ from bristlecrawler.fe.options import Settings, setting, setting_of
 class Solver(Settings):
     """Implicit dynamics (HHT-alpha) with adaptive steps, and its Newton settings.
 
-    The Newton and step-rule settings are :class:`fe.NewtonOptions`'s and
-    :class:`fe.StepControl`'s, declared again here with the crawler's narrower ranges;
+    The time-scheme, Newton and step-rule settings are :class:`fe.Integrator`'s (HHT's
+    alpha), :class:`fe.NewtonOptions`'s and :class:`fe.StepControl`'s, declared again
+    here with the crawler's narrower ranges;
     where the crawler's default differs from theirs, the declaration gives the reason
     (:func:`fe.options.own_defaults` lists them, the scenario guide shows them).
     """
 
-    hht_alpha: float = setting(-0.05, "HHT alpha, -", ge=-1.0 / 3.0, le=0.0, structural=True)
+    hht_alpha: float = setting_of(HHT, "alpha", structural=True)
     dt_max: float = setting(0.05, "largest time step, s", gt=0.0, le=1e3)
     dt_min: float = setting(
         1e-6, "smallest time step before giving up, s (at least 1e-12)", ge=1e-12, le=1e3
@@ -86,9 +89,10 @@ class Solver(Settings):
         "('monotone'), or only when it blows up ('growth')",
         structural=True,
     )
-    predictor: Literal["tangent", "constant"] = setting(
-        "tangent",
-        "start of each step's Newton: the residual linearised in the stroke's increment "
+    predictor: Literal["tangent", "constant"] = setting_of(
+        Integrator,
+        "predictor",
+        doc="start of each step's Newton: the residual linearised in the stroke's increment "
         "('tangent'), or the last converged state ('constant')",
         structural=True,
     )

@@ -22,15 +22,16 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 
-from bristlecrawler.errors import InputError
 from bristlecrawler.fe import assembly
 from bristlecrawler.fe.integrator import Integrator, element_masses, force
+from bristlecrawler.fe.options import setting
 
 
 @dataclasses.dataclass(frozen=True, init=False)
 class HHT(Integrator, scheme="hht"):
     """HHT-alpha (alpha in [-1/3, 0]; 0 is Newmark): make it with
-    :meth:`Integrator.hht` or :meth:`Integrator.newmark`, which check the coefficients.
+    :meth:`Integrator.hht` or :meth:`Integrator.newmark`; the coefficients' ranges are
+    their declared settings'.
 
     Attributes:
         alpha: HHT's alpha (Abaqus sign convention), dimensionless.
@@ -40,22 +41,20 @@ class HHT(Integrator, scheme="hht"):
     every iterate and every step size from that state.
     """
 
-    alpha: float = -0.05
-    beta: float = 0.25 * 1.05**2
-    gamma: float = 0.55
+    alpha: float = setting(-0.05, "HHT alpha, -", ge=-1.0 / 3.0, le=0.0)
+    beta: float = setting(0.25 * 1.05**2, "Newmark beta, -", gt=0.0)
+    gamma: float = setting(0.55, "Newmark gamma, -", ge=0.5)
 
     @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> HHT:
-        """HHT-alpha, alpha in [-1/3, 0]: beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha."""
-        if not (-1.0 / 3.0 <= alpha <= 0.0):
-            raise InputError(f"HHT alpha must be in [-1/3, 0], got {alpha}")
+        """HHT-alpha, alpha in [-1/3, 0] (the setting's range): beta = (1 - alpha)^2 / 4,
+        gamma = 1/2 - alpha."""
         return cls(alpha=alpha, beta=(1.0 - alpha) ** 2 / 4.0, gamma=0.5 - alpha, **kw)
 
     @classmethod
     def newmark(cls, beta: float = 0.25, gamma: float = 0.5, **kw) -> HHT:
-        """Newmark (alpha = 0); the default (1/4, 1/2) is the trapezoidal rule."""
-        if not (beta > 0.0 and gamma >= 0.5):
-            raise InputError(f"Newmark needs beta > 0 and gamma >= 1/2, got {beta}, {gamma}")
+        """Newmark (alpha = 0; beta > 0, gamma >= 1/2: the settings' ranges); the default
+        (1/4, 1/2) is the trapezoidal rule."""
         return cls(alpha=0.0, beta=beta, gamma=gamma, **kw)
 
     def init(self, state, params, topo, terms, masses=None):

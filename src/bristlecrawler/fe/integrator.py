@@ -22,14 +22,14 @@ from __future__ import annotations
 import abc
 import dataclasses
 import math
-from typing import ClassVar
+from typing import ClassVar, Literal
 
 import jax.numpy as jnp
 
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import assembly
 from bristlecrawler.fe.newton import DEFAULT_NEWTON, NewtonOptions
-from bristlecrawler.fe.options import compose, renamed
+from bristlecrawler.fe.options import check_settings, compose, renamed, setting
 
 
 def force(u, v, t, history, params, topo, terms, freeze=False, masses=None):
@@ -80,9 +80,17 @@ class Integrator(abc.ABC):
     """
 
     newton: NewtonOptions = DEFAULT_NEWTON
-    predictor: str = "tangent"
-    penetration_limit: float = math.inf
-    max_rotation: float = 1.0
+    predictor: Literal["tangent", "constant"] = setting(
+        "tangent",
+        "start of each step's Newton: the residual linearised in the step's change of the "
+        "prescribed motions ('tangent'), or the last converged state ('constant')",
+    )
+    penetration_limit: float = setting(
+        math.inf, "deepest contact penetration of a converged step, mm", gt=0.0, inf=True
+    )
+    max_rotation: float = setting(
+        1.0, "largest nodal rotation change in one step, rad", gt=0.0, inf=True
+    )
 
     def __init__(self, newton=None, **settings):
         own = {f.name for f in dataclasses.fields(self)} - {"newton"}
@@ -97,12 +105,7 @@ class Integrator(abc.ABC):
         self.__post_init__()
 
     def __post_init__(self) -> None:
-        if not self.max_rotation > 0.0:
-            raise InputError(f"max_rotation must be > 0 rad, got {self.max_rotation}")
-        if not self.penetration_limit > 0.0:
-            raise InputError(f"penetration_limit must be > 0 mm, got {self.penetration_limit}")
-        if self.predictor not in ("tangent", "constant"):
-            raise InputError(f"predictor must be 'tangent' or 'constant', got {self.predictor!r}")
+        check_settings(self)  # the scheme's own coefficients too
 
     # -- the two hooks of a scheme ------------------------------------------------------
 
