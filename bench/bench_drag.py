@@ -24,13 +24,12 @@ def main() -> None:
     a = ap.parse_args()
 
     from bristlecrawler.crawler.drag import DragTest, drag_test
-    from bristlecrawler.crawler.drag_analysis import substrate_pitch
     from bristlecrawler.fe import enable_compilation_cache
     from bristlecrawler.scenario import load_spec
 
     enable_compilation_cache()
     spec = load_spec(a.scenario)
-    pitch = substrate_pitch(spec)
+    pitch = spec.substrate.period
     t0 = time.perf_counter()
     drag_test(spec, DragTest(direction="along", distance=pitch))
     print(f"scenario {a.scenario}: pitch {pitch:g} mm; first run (compiles, 1 pitch) "

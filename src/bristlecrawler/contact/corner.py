@@ -60,26 +60,10 @@ from bristlecrawler.contact.outline import (
     reference_arc,
     select_feature,
 )
-from bristlecrawler.contact.profile import profile_chain
+from bristlecrawler.contact.profile import convex_corners
 from bristlecrawler.contact.term import attached_points
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.terms import Term
-
-_host_chain = jax.jit(profile_chain)
-
-
-def convex_corners(substrate) -> tuple[np.ndarray, np.ndarray, float]:
-    """Convex corners of one period of ``substrate``: centres (k, 2) mm, fillet radii (k,)
-    mm, and the period (mm). Straight vertices and concave corners are not returned."""
-    # One compiled program, not the chain's hundreds of eager operations: a batch builds
-    # this for every design (each eager operation is a dispatch, on a GPU a launch).
-    c = jax.device_get(_host_chain(substrate.profile()))
-    turn = np.asarray(c.turn)
-    orient = np.asarray(c.orient)
-    keep = (turn != 0) & (orient > 0)
-    centres = np.asarray(c.center)[keep]
-    radii = np.asarray(c.radius)[keep]
-    return centres, radii, float(c.period)
 
 
 def beam_outline(chain, thickness, normal) -> tuple[tuple[int, ...], np.ndarray]:

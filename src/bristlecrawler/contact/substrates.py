@@ -19,12 +19,14 @@ with an assumed pitch of 2 mm (the paper does not give the spacing).
 
 from __future__ import annotations
 
+import abc
+
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
-from bristlecrawler.contact.profile import PeriodicProfile, check_vertices
+from bristlecrawler.contact.profile import PeriodicProfile, check_vertices, convex_corners
 from bristlecrawler.errors import InputError
 
 
@@ -39,8 +41,35 @@ def _finite(name: str, value: jax.Array) -> np.ndarray:
     return v
 
 
+class Substrate(abc.ABC):
+    """What the contact terms, the crawler and the drag tests ask of a rigid substrate.
+
+    A substrate is a PyTree (:func:`~bristlecrawler._pytree.pytree`) whose fields are its
+    numbers, checked in ``__post_init__`` where they are concrete, with one hook:
+    :meth:`profile`, its boundary over one period as a :class:`PeriodicProfile` built with
+    traceable JAX operations. :attr:`period` and :attr:`has_corners` follow from it.
+    Adding a substrate is one class here (and, to name it in a scenario, its settings
+    class in :mod:`bristlecrawler.scenario.substrate`)."""
+
+    @abc.abstractmethod
+    def profile(self) -> PeriodicProfile:
+        """The boundary over one period (the solid is below it), mm."""
+
+    @property
+    def period(self) -> float:
+        """The profile's period, mm (a flat plane: 1 mm, the length the drag tests average
+        its sliding forces over)."""
+        return float(np.asarray(self.profile().period))
+
+    @property
+    def has_corners(self) -> bool:
+        """Whether the profile has convex corners (:func:`convex_corners`: the corner
+        contact's partners). A flat plane has none."""
+        return len(convex_corners(self)[0]) > 0
+
+
 @pytree()
-class Flat:
+class Flat(Substrate):
     """Flat rigid plane y = height.
 
     Attributes:
@@ -63,7 +92,7 @@ class Flat:
 
 
 @pytree()
-class Grooves:
+class Grooves(Substrate):
     """Evenly spaced rectangular grooves cut into a flat land at y = top.
 
     Groove k spans ``phase + k pitch <= x <= phase + k pitch + width`` with its bottom at
@@ -128,7 +157,7 @@ class Grooves:
 
 
 @pytree()
-class Sawtooth:
+class Sawtooth(Substrate):
     """Asymmetric teeth for directional substrates.
 
     From a valley at ``x = phase`` (y = base) the profile rises linearly to the crest
@@ -167,7 +196,7 @@ class Sawtooth:
 
 
 @pytree()
-class Polyline:
+class Polyline(Substrate):
     """Any periodic piecewise-linear profile given by its points over one period.
 
     Attributes:

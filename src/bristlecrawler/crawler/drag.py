@@ -25,7 +25,7 @@ import numpy as np
 
 from bristlecrawler import fe
 from bristlecrawler.crawler.batch import check_designs, run_rigs
-from bristlecrawler.crawler.drag_analysis import result_of, substrate_pitch
+from bristlecrawler.crawler.drag_analysis import result_of
 from bristlecrawler.crawler.model import add_contact, bristle_ends, weight_share
 from bristlecrawler.crawler.record import state_terms, tip_states
 from bristlecrawler.crawler.runner import Advance, ModalDamping, Settle, SteppedStage, run_stages
@@ -103,7 +103,7 @@ class DragTest:
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise InputError(f"drag {name} must be a positive finite number, got {v!r}")
-        pitch = substrate_pitch(spec)
+        pitch = spec.substrate.period
         if self.distance < pitch:
             raise InputError(
                 f"drag distance {self.distance:g} mm is shorter than one groove pitch "
@@ -133,7 +133,7 @@ def first_frequency_estimate(spec: CrawlerSpec, index: int = 0) -> float:
 def quasi_static_ratio(spec: CrawlerSpec, test: DragTest) -> float:
     """Time of the bristle's first period over the time to cross one pitch (small:
     quasi-static)."""
-    return test.speed / (substrate_pitch(spec) * first_frequency_estimate(spec, test.bristle))
+    return test.speed / (spec.substrate.period * first_frequency_estimate(spec, test.bristle))
 
 
 @dataclass(frozen=True)

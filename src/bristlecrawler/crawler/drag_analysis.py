@@ -314,16 +314,6 @@ def _mean_over(x, f, lo, hi) -> float:
     return float(np.trapezoid(ff, xx) / (b - a))
 
 
-def substrate_pitch(spec) -> float:
-    """Period of the substrate's profile, mm (1 mm for a flat plane): the length over which
-    the sliding forces are averaged."""
-    from bristlecrawler.contact.substrates import Flat
-
-    if isinstance(spec.substrate, Flat):
-        return 1.0
-    return float(spec.substrate.profile().period)
-
-
 def result_of(ctx) -> DragResult:
     """The :class:`DragResult` of a drag ctx's records."""
     dm, records = ctx.crawler, ctx.records
@@ -357,7 +347,7 @@ def result_of(ctx) -> DragResult:
         tip=nodes[:, dm.chain[-1]],
         tip_state=records.column("tip_state")[:, 0].astype(int),
         energies=energy_series(t, drive, x, en),
-        pitch=substrate_pitch(dm.spec),
+        pitch=dm.spec.substrate.period,
         load=dm.load,
         mu=dm.spec.contact.mu,
         legs=legs,

@@ -20,9 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from bristlecrawler import fe
-from bristlecrawler.contact.corner import FaceCornerContact, beam_outline, convex_corners
+from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
 from bristlecrawler.contact.coulomb import CoulombLaw
-from bristlecrawler.contact.substrates import Flat
 from bristlecrawler.contact.term import SubstrateContact
 from bristlecrawler.crawler.actuation import DelayedSin2, SampledStretch
 from bristlecrawler.crawler.record import observer
@@ -218,13 +217,13 @@ def add_contact(s, spec: CrawlerSpec, chains):
     corners = None
     # The corner term is contact with the substrate's convex corners: a substrate without
     # any (a flat plane) needs none, whatever the contact settings ask for.
-    if spec.contact.corners and _has_convex_corners(spec.substrate):
+    if spec.contact.corners and spec.substrate.has_corners:
         outlines = [
             beam_outline(ch, b.node_thickness(), b.normal())
             for ch, b in zip(chains, spec.bristles, strict=True)
         ]
         faces = tuple(o[0] for o in outlines)
-        period = float(spec.substrate.profile().period)
+        period = spec.substrate.period
         span = max(b.length + b.thickness_clamp for b in spec.bristles)
         corners = FaceCornerContact(
             faces, FaceCornerContact.window_periods(span, period, margin=1.0)
@@ -234,11 +233,6 @@ def add_contact(s, spec: CrawlerSpec, chains):
             FaceCornerContact.params(X, faces, [o[1] for o in outlines], spec.substrate, law),
         )
     return term, corners, tip_points
-
-
-def _has_convex_corners(substrate) -> bool:
-
-    return not isinstance(substrate, Flat) and len(convex_corners(substrate)[0]) > 0
 
 
 def _drawing(body, clamps, chains):

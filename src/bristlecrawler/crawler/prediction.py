@@ -113,7 +113,6 @@ class Prediction:
 def compare(spec: CrawlerSpec, drag, fe_history) -> Prediction:
     """The reduced model (its bristles from ``drag``) beside the FE crawler's history of
     the same design (``crawler.run(spec)``)."""
-    from bristlecrawler.crawler.drag_analysis import substrate_pitch
 
     red = RunMetrics.from_reduced(reduced_run(spec, drag))
     fe = run_metrics(fe_history)
@@ -127,6 +126,6 @@ def compare(spec: CrawlerSpec, drag, fe_history) -> Prediction:
         reduced_work=red.work,
         fe_per_cycle=np.asarray(fe.advance_per_cycle),
         reduced_per_cycle=np.asarray(red.advance_per_cycle),
-        pitch=substrate_pitch(spec),
+        pitch=spec.substrate.period,
         fp_over_k=float(twin.fp[0] / twin.k[0]),
     )

@@ -19,6 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from bristlecrawler.contact.substrates import Substrate
 from bristlecrawler.crawler.solver import Solver
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.options import Settings, check_settings, renamed, setting
@@ -417,6 +418,11 @@ class CrawlerSpec:
         """InputError for parts that do not fit together: bristles out of place, no
         weight and no penalty load, a bristle that cannot carry its share of the weight
         (each part's own settings checked already)."""
+        if not isinstance(self.substrate, Substrate):
+            raise InputError(
+                "substrate must be one of bristlecrawler.contact.substrates (Flat, Grooves, "
+                f"Sawtooth, Polyline), got {type(self.substrate).__name__}"
+            )
         self._check_positions()
         if self.gravity == 0 and self.contact.penalty_load is None:
             raise InputError(

@@ -56,9 +56,8 @@ class Leg:
 def crosscheck_test(spec):
     """The cross-check's drag test: one leg along the grain, one pitch (at least 1 mm)."""
     from bristlecrawler.crawler.drag import DragTest
-    from bristlecrawler.crawler.drag_analysis import substrate_pitch
 
-    return DragTest(direction="along", distance=max(substrate_pitch(spec), 1.0))
+    return DragTest(direction="along", distance=max(spec.substrate.period, 1.0))
 
 
 def prepare(spec, plane: str = "stress") -> list[Leg]:

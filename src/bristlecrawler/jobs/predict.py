@@ -46,9 +46,8 @@ def prediction_drag_test(spec):
     """The drag test a prediction needs: back and forth over at least two pitches
     (8 mm or more), at the default speed and the bristle's weight share."""
     from bristlecrawler.crawler.drag import DragTest
-    from bristlecrawler.crawler.drag_analysis import substrate_pitch
 
-    return DragTest(direction="cycle", distance=max(8.0, 2.0 * substrate_pitch(spec)))
+    return DragTest(direction="cycle", distance=max(8.0, 2.0 * spec.substrate.period))
 
 
 def cache_key(sc, test) -> str:
