@@ -164,3 +164,21 @@ def test_a_substrate_setting_out_of_its_range_says_so_as_every_other_key(tmp_pat
         "error: scenario (with --set): substrate.phase: must be <= 10000, got 1e+308 "
         "(x of a groove's left wall, mm)\n"
     )
+
+
+def test_the_solver_scheme_chooses_the_integrator_with_the_scenarios_newton_settings():
+    """``solver.scheme`` reaches the kernels: backward Euler with the scenario's Newton
+    settings and predictor (HHT's alpha left out), HHT with ``hht_alpha``; a word that
+    names no scheme is refused in one line."""
+    from bristlecrawler.scenario.load import apply_overrides
+
+    be = to_spec(apply_overrides(load_scenario("paper"), ['solver.scheme="backward_euler"']))
+    hht = to_spec(apply_overrides(load_scenario("paper"), ["solver.hht_alpha=-0.2"]))
+    ig_be, ig_hht = be.solver.integrator(1e-3), hht.solver.integrator(1e-3)
+    assert isinstance(ig_be, fe.BackwardEuler) and isinstance(ig_hht, fe.HHT)
+    assert ig_be.newton == be.solver.newton and ig_be.predictor == be.solver.predictor
+    assert ig_be.penetration_limit == 1e-3
+    assert ig_hht.alpha == -0.2
+    assert "solver.scheme" in STRUCTURE_KEYS
+    with pytest.raises(InputError, match=r"solver\.scheme"):
+        apply_overrides(load_scenario("paper"), ['solver.scheme="euler"'])
