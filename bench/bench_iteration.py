@@ -51,7 +51,7 @@ def programs(ctx):
     dt = jnp.asarray(1e-3)
 
     def equations(state, params):
-        return ig.equations(state, None, params, dt, topo, terms)[1]
+        return ig.equations(state, ig.init(state, params, topo, terms), params, dt, topo, terms)[1]
 
     @jax.jit
     def residual(state, params, q):
@@ -78,7 +78,7 @@ def programs(ctx):
         # The same step without the contact terms: what the tangent costs for the beams,
         # the inertia and the constraints alone.
         bare = dataclasses.replace(state, history=())
-        res = ig.equations(bare, None, params, dt, topo, ())[1]
+        res = ig.equations(bare, ig.init(bare, params, topo, ()), params, dt, topo, ())[1]
         return banded.extract(lambda q: res(q)[0], q, topo)
 
     step = fe.make_step(topo, terms, ig)

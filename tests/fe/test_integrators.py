@@ -2,6 +2,8 @@
 stepper runs any scheme. Backward Euler, the second scheme, is checked against its own
 recurrence and its order on the unit oscillator x'' + x = 0."""
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -105,3 +107,34 @@ def test_a_scheme_is_an_object_with_its_settings():
         fe.Integrator()
     with pytest.raises(InputError, match="max_rotation"):
         fe.Integrator.backward_euler(max_rotation=0.0)
+
+
+def test_schemes_are_made_by_name_and_hht_keeps_its_coefficients_together():
+    assert fe.Integrator.of("hht", alpha=-0.1) == fe.Integrator.hht(-0.1)
+    assert fe.Integrator.of("backward_euler", tolerance=1e-10) == fe.Integrator.backward_euler(
+        tolerance=1e-10
+    )
+    with pytest.raises(InputError, match="no time scheme named 'rk4'"):
+        fe.Integrator.of("rk4")
+    # alpha alone would keep alpha = -0.05's beta and gamma: not HHT-alpha
+    with pytest.raises(InputError, match=r"Integrator\.hht"):
+        dataclasses.replace(fe.Integrator.hht(), alpha=-0.2)
+    assert dataclasses.replace(fe.Integrator.hht(), max_rotation=0.5).max_rotation == 0.5
+
+
+def _position(state, params):
+    return state.u[1, 0]
+
+
+def test_the_stepper_refuses_what_it_cannot_run_in_one_line():
+    m = oscillator()
+    s0 = fe.initial_state(m, q=jnp.asarray([X0]))
+    with pytest.raises(InputError, match="'t' entry"):
+        fe.solve(m, s0, 1.0, 0.25, save=fe.SaveAt(_position))
+    batch = fe.Stepper.of(m, loop="batch")
+    with pytest.raises(InputError, match="params"):
+        batch.start([s0, s0], 0.25)
+    with pytest.raises(InputError, match="one design"):
+        batch.solve(s0, m.params, 1.0, 0.25)
+    with pytest.raises(InputError, match="loop"):
+        fe.Stepper.of(m, loop="gpu")

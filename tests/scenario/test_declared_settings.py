@@ -182,3 +182,7 @@ def test_the_solver_scheme_chooses_the_integrator_with_the_scenarios_newton_sett
     assert "solver.scheme" in STRUCTURE_KEYS
     with pytest.raises(InputError, match=r"solver\.scheme"):
         apply_overrides(load_scenario("paper"), ['solver.scheme="euler"'])
+    with pytest.raises(InputError, match="hht_alpha is HHT's"):
+        apply_overrides(
+            load_scenario("paper"), ['solver.scheme="backward_euler"', "solver.hht_alpha=-0.2"]
+        )

@@ -43,6 +43,7 @@ from bristlecrawler.contact.substrates import (
     Grooves,
     Polyline,
     Sawtooth,
+    Substrate,
 )
 
 __all__ = [
@@ -62,6 +63,7 @@ __all__ = [
     "Polyline",
     "Projection",
     "Sawtooth",
+    "Substrate",
     "friction_potential",
     "gap",
     "generalized_forces",

@@ -78,6 +78,10 @@ class Flat(Substrate):
 
     height: jax.Array = 0.0
 
+    @property
+    def has_corners(self) -> bool:
+        return False  # a straight line (and no program to build to say so)
+
     def __post_init__(self) -> None:
         as_float_leaf(self, "height")
         if is_concrete(self.height):

@@ -91,6 +91,9 @@ def run_batch(
     rigs = [build(s) for s in specs]
     built = time.perf_counter()
     ctxs, errors, stats = run_rigs(rigs, stages, width, options, on_progress)
+    for ctx, err in zip(ctxs, errors, strict=True):
+        if err is None:  # a design's wall time counts its building, as a single run's
+            ctx.stats["wall_time_s"] += built - wall0
     histories = []
     t_records = time.perf_counter()
     for ctx, err in zip(ctxs, errors, strict=True):
@@ -110,8 +113,10 @@ def run_rigs(
 ) -> tuple[list[RunContext], list[str | None], dict]:
     """``stages`` on built rigs of one structure (crawlers or drag tests' rigs) as one
     batch of ``width`` designs: (each design's run context, its error or None, the
-    batch's statistics as in :class:`BatchResult`). The caller checks ``width``
-    against the rigs (:func:`run_batch` does)."""
+    batch's statistics as in :class:`BatchResult` but for ``wall_time_s`` and
+    ``histories_wall_time_s``, which are the caller's)."""
+    if not 1 <= len(rigs) <= width:
+        raise InputError(f"a batch of width {width} holds 1 to {width} designs, got {len(rigs)}")
     wall0 = time.perf_counter()
     stages = _check_stages(stages)
     options = options or RunOptions()
@@ -310,7 +315,6 @@ class _BatchAdvance:
         return t, t_end, chunk, dt_min, dt_max
 
     def _run(self, stage, plans: dict, check: bool, stats: dict) -> None:
-
         ctxs, live = self.ctxs, self.live
         # Padding slots repeat a live design and stay masked (their stage is empty).
         slots = live + [live[-1]] * (self.width - len(live))

@@ -250,7 +250,7 @@ def drag_test(spec: CrawlerSpec, test: DragTest | None = None, *, options=None, 
     return result_of(run_stages(build_drag(spec, test), DRAG_STAGES, options, on_progress))
 
 
-def drag_tests(specs, test: DragTest | None = None, *, width=None, options=None):
+def drag_tests(specs, test: DragTest | None = None, *, width=None, options=None, on_progress=None):
     """The drag test ``test`` of designs of one structure (values apart: friction,
     inclination, load, ...) as one batch, in one compiled program, each design taking the
     steps of its own :func:`drag_test`. Returns (each design's :class:`DragResult` or
@@ -259,6 +259,6 @@ def drag_tests(specs, test: DragTest | None = None, *, width=None, options=None)
     specs = tuple(specs)
     width = check_designs(specs, width)
     rigs = [build_drag(s, test) for s in specs]
-    ctxs, errors, _ = run_rigs(rigs, DRAG_STAGES, width, options)
+    ctxs, errors, _ = run_rigs(rigs, DRAG_STAGES, width, options, on_progress)
     results = [None if e is not None else result_of(c) for c, e in zip(ctxs, errors, strict=True)]
     return results, errors

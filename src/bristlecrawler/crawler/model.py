@@ -126,7 +126,6 @@ def bristle_drop(b: Bristle, c) -> tuple[float, float]:
 
 def stretches(spec: CrawlerSpec) -> list:
     """The prescribed stretch of each body segment (minus its shortening, mm)."""
-
     a = spec.actuation
     out = []
     for delay in a.delays(spec.segments):
@@ -141,7 +140,6 @@ def stretches(spec: CrawlerSpec) -> list:
 
 def _body_and_bristles(s, spec: CrawlerSpec):
     """Body nodes, masses, actuated links, clamps and bristle chains."""
-
     c = spec.contact
     drops = [bristle_drop(b, c) for b in spec.bristles]
     y_body = spec.body.link_length + max(d[0] for d in drops)
@@ -195,7 +193,6 @@ def _contact_points(spec: CrawlerSpec, chains):
 def _friction_law(spec: CrawlerSpec):
     """Penalties sized for the weight on one bristle (or a given peak load): penetration
     below 1 micrometre and stick drift below ``contact.stick_drift`` at that load."""
-
     c = spec.contact
     load = c.penalty_load or weight_share(spec)
     return CoulombLaw.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift)
@@ -205,7 +202,6 @@ def add_contact(s, spec: CrawlerSpec, chains):
     """Add the contact of ``spec``'s bristle ``chains`` with its substrate to structure
     ``s``: the substrate term (and the corner term where the substrate has convex
     corners); returns (substrate term, corner term or None, each tip's contact points)."""
-
     law = _friction_law(spec)
     nodes, offsets, radius, tip_points = _contact_points(spec, chains)
     X = s.coordinates

@@ -149,6 +149,11 @@ class Solver(Settings):
         bounds, or the Newton settings' own rules."""
         if self.dt_min >= self.dt_max:
             raise InputError(f"{prefix}dt_min must be smaller than {prefix}dt_max")
+        if self.scheme != "hht" and self.hht_alpha != HHT.hht().alpha:
+            raise InputError(
+                f"{prefix}hht_alpha is HHT's: it has no meaning with {prefix}scheme = "
+                f"{self.scheme!r}"
+            )
         try:
             self.newton  # noqa: B018  (the Newton settings' own rules)
             self.integrator(math.inf)
@@ -174,11 +179,11 @@ class Solver(Settings):
 
     def integrator(self, penetration_limit: float):
         """The :class:`fe.Integrator` of these settings (``hht_alpha`` only for HHT)."""
-        shared = {
-            "newton": self.newton,
-            "predictor": self.predictor,
-            "penetration_limit": penetration_limit,
-        }
-        if self.scheme == "backward_euler":
-            return Integrator.backward_euler(**shared)
-        return Integrator.hht(self.hht_alpha, **shared)
+        own = {"alpha": self.hht_alpha} if self.scheme == "hht" else {}
+        return Integrator.of(
+            self.scheme,
+            newton=self.newton,
+            predictor=self.predictor,
+            penetration_limit=penetration_limit,
+            **own,
+        )

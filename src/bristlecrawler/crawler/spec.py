@@ -420,8 +420,8 @@ class CrawlerSpec:
         (each part's own settings checked already)."""
         if not isinstance(self.substrate, Substrate):
             raise InputError(
-                "substrate must be one of bristlecrawler.contact.substrates (Flat, Grooves, "
-                f"Sawtooth, Polyline), got {type(self.substrate).__name__}"
+                "substrate must be a bristlecrawler.contact.substrates.Substrate (Flat, "
+                f"Grooves, Sawtooth, Polyline, or your own), got {type(self.substrate).__name__}"
             )
         self._check_positions()
         if self.gravity == 0 and self.contact.penalty_load is None:

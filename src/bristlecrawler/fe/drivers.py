@@ -25,12 +25,12 @@ from bristlecrawler._pytree import pytree
 from bristlecrawler.fe.control import DEFAULT_CONTROL, StepControl, march
 from bristlecrawler.fe.dynamics import (
     DynState,
-    Integrator,
     StepInfo,
     make_step,
     step_result,
     step_solver,
 )
+from bristlecrawler.fe.integrator import Integrator
 from bristlecrawler.fe.programs import stored
 from bristlecrawler.fe.status import SUCCESS
 

@@ -95,6 +95,8 @@ def step_solver(state, params, dt, topo, terms, ig: Integrator, start=None, para
     :func:`make_step` runs the parts in a loop of their own, a batch's driver one
     iteration per design at a time. ``parallel``: Newton's line search makes its trials
     at once (:func:`newton.newton_parts`), as a batch off the CPU does."""
+    if start is None:
+        start = ig.init(state, params, topo, terms)
     kin, residual = ig.equations(state, start, params, dt, topo, terms)
     if ig.predictor == "tangent":
         # Euler (tangent) predictor. From the last q, the prescribed motion of the step

@@ -22,6 +22,7 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 
+from bristlecrawler.errors import InputError
 from bristlecrawler.fe import assembly
 from bristlecrawler.fe.integrator import Integrator, element_masses, force
 from bristlecrawler.fe.options import setting
@@ -52,14 +53,31 @@ class HHT(Integrator, scheme="hht"):
         return cls(alpha=alpha, beta=(1.0 - alpha) ** 2 / 4.0, gamma=0.5 - alpha, **kw)
 
     @classmethod
+    def named(cls, alpha: float = -0.05, **kw) -> HHT:
+        """:meth:`Integrator.of` ("hht"): HHT-alpha of ``alpha``."""
+        return cls.hht(alpha, **kw)
+
+    @classmethod
     def newmark(cls, beta: float = 0.25, gamma: float = 0.5, **kw) -> HHT:
         """Newmark (alpha = 0; beta > 0, gamma >= 1/2: the settings' ranges); the default
         (1/4, 1/2) is the trapezoidal rule."""
         return cls(alpha=0.0, beta=beta, gamma=gamma, **kw)
 
-    def init(self, state, params, topo, terms, masses=None):
-        if masses is None:
-            masses = element_masses(params, topo)
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        # alpha, beta and gamma are one scheme only together: a replace() of alpha alone
+        # would keep alpha = -0.05's beta and gamma (not HHT-alpha, first order).
+        if self.alpha != 0.0:
+            beta, gamma = (1.0 - self.alpha) ** 2 / 4.0, 0.5 - self.alpha
+            if abs(self.beta - beta) > 1e-12 or abs(self.gamma - gamma) > 1e-12:
+                raise InputError(
+                    f"HHT with alpha = {self.alpha:g} needs beta = {beta:.6g} and gamma = "
+                    f"{gamma:.6g}, got {self.beta:.6g} and {self.gamma:.6g}: make it with "
+                    "Integrator.hht(alpha)"
+                )
+
+    def init(self, state, params, topo, terms):
+        masses = element_masses(params, topo)
         return force(state.u, state.v, state.t, state.history, params, topo, terms, masses=masses)
 
     def equations(self, state, start, params, dt, topo, terms):
@@ -68,7 +86,7 @@ class HHT(Integrator, scheme="hht"):
         u0, v0, a0 = state.u, state.v, state.a
         # Element masses once per step, not once per residual (three products M x each).
         Me = element_masses(params, topo)
-        r0, s0 = self.init(state, params, topo, terms, Me) if start is None else start
+        r0, s0 = start
 
         def newmark(u):
             a = (u - u0 - dt * v0) / (be * dt**2) - (0.5 / be - 1.0) * a0

@@ -129,6 +129,21 @@ class Integrator(abc.ABC):
             Integrator._schemes[scheme] = cls
 
     @classmethod
+    def of(cls, name: str, **kw) -> Integrator:
+        """The scheme registered as ``name`` ("hht", "backward_euler", ...) with the
+        settings ``kw`` (its own and Newton's, as its classmethod takes them)."""
+        if name not in Integrator._schemes:
+            known = ", ".join(sorted(Integrator._schemes))
+            raise InputError(f"no time scheme named {name!r}: the schemes are {known}")
+        return Integrator._schemes[name].named(**kw)
+
+    @classmethod
+    def named(cls, **kw) -> Integrator:
+        """This scheme with the settings ``kw`` (:meth:`of`; a scheme whose coefficients
+        go together, as HHT's, makes them here)."""
+        return cls(**kw)
+
+    @classmethod
     def hht(cls, alpha: float = -0.05, **kw) -> Integrator:
         """HHT-alpha (:class:`.hht.HHT`), alpha in [-1/3, 0]."""
         return Integrator._schemes["hht"].hht(alpha, **kw)

@@ -43,7 +43,7 @@ from bristlecrawler.fe.drivers import (
 )
 from bristlecrawler.fe.dynamics import DynState, make_step
 from bristlecrawler.fe.integrator import Integrator
-from bristlecrawler.fe.status import STEP_TOO_SMALL, describe, is_fatal, message
+from bristlecrawler.fe.status import STEP_TOO_SMALL, is_fatal, message
 
 LOOPS = ("host", "compiled", "batch")
 
@@ -82,8 +82,9 @@ class BatchCarry(NamedTuple):
 
 class Chunk(NamedTuple):
     """What one :meth:`Stepper.run` returns: the ``carry`` to continue from, the
-    ``records`` (pytree of (capacity, ...) arrays, the first ``n`` rows filled), ``n``
-    and whether the run ``failed`` (a step could not be cut)."""
+    ``records`` (a pytree of arrays whose first ``n`` rows are this call's steps: the
+    compiled loop's hold ``save.capacity`` rows, the host loop's ``n``, None for none),
+    ``n`` and whether the run ``failed`` (a step could not be cut)."""
 
     carry: Any
     records: Any
@@ -107,7 +108,8 @@ class BatchChunk(NamedTuple):
 @dataclasses.dataclass(frozen=True)
 class Solution:
     """A whole run (:meth:`Stepper.solve`): the final ``state``, the accepted steps'
-    ``times`` (s) and ``records`` (the observer's rows stacked, None without a step),
+    ``times`` (s; empty without a step) and ``records`` (the observer's rows stacked, None
+    without a step),
     ``ok`` and ``message``, the counts of accepted and rejected steps and of Newton
     iterations, and ``status``: the last attempt's status (STEP_TOO_SMALL where the step
     could not be cut further, with the failure that made it in ``cause``)."""
@@ -170,13 +172,22 @@ class Stepper:
         ``"batch"`` the compiled ``(carry, pending, params, t_stop, t_end, chunk, dt_min,
         dt_max, checked) -> (carry, pending, records, n, failed, t_stop, iterations)``,
         every argument stacked by design (for callers that compile it ahead of time)."""
-        args = (self.topology, self.terms, self.integrator, self.save.observe)
-        args += (self.save.capacity, self.control, self.check)
         if self.loop == "host":
-            return make_host_driver(*args)
+            return make_host_driver(*self._driver_args())
         if self.loop == "compiled":
-            return make_driver(*args)
-        return make_batch_driver(*args, self.parallel_trials).run
+            return make_driver(*self._driver_args())
+        return make_batch_driver(*self._driver_args(), self.parallel_trials).run
+
+    def _driver_args(self) -> tuple:
+        return (
+            self.topology,
+            self.terms,
+            self.integrator,
+            self.save.observe,
+            self.save.capacity,
+            self.control,
+            self.check,
+        )
 
     def start(self, state, dt, params=None):
         """The first carry of a run from ``state`` with a first step of ``dt`` (s). For a
@@ -184,10 +195,12 @@ class Stepper:
         the designs' ``params`` stacked (:func:`stack`); returns a :class:`BatchCarry`."""
         if self.loop != "batch":
             return driver_start(state, dt)
-        carry = stack([driver_start(s, h) for s, h in zip(state, dt, strict=True)])
-        args = (self.topology, self.terms, self.integrator, self.save.observe)
-        args += (self.save.capacity, self.control, self.check, self.parallel_trials)
-        return BatchCarry(carry, make_batch_driver(*args).pending(carry, params))
+        if params is None:
+            raise InputError("a batch starts from the designs' params, stacked (fe.stack)")
+        states, dts = list(state), list(np.broadcast_to(np.asarray(dt, float), (len(state),)))
+        carry = stack([driver_start(s, h) for s, h in zip(states, dts, strict=True)])
+        driver = make_batch_driver(*self._driver_args(), self.parallel_trials)
+        return BatchCarry(carry, driver.pending(carry, params))
 
     def run(self, carry, params, t_end, dt_min, dt_max, *, t_stop=None, chunk=None, checked=True):
         """Steps from ``carry`` towards ``t_end`` (s) until the records are full
@@ -202,13 +215,16 @@ class Stepper:
         :class:`BatchChunk`."""
         if self.loop != "batch":
             return Chunk(*self.program(carry, params, t_end, dt_min, dt_max))
-        t_end = jnp.asarray(t_end, jnp.float64)
-        t_stop = t_end if t_stop is None else t_stop
-        chunk = t_end if chunk is None else chunk
-        checked = jnp.broadcast_to(jnp.asarray(checked), jnp.shape(t_end))
-        out = self.program(
-            carry.carry, carry.pending, params, t_stop, t_end, chunk, dt_min, dt_max, checked
-        )
+        designs = jnp.shape(carry.carry.state.t)
+
+        def each(x, dtype=jnp.float64):  # a number for every design, or one for all
+            return jnp.broadcast_to(jnp.asarray(x, dtype), designs)
+
+        t_end = each(t_end)
+        t_stop = t_end if t_stop is None else each(t_stop)
+        chunk = t_end if chunk is None else each(chunk)
+        args = (t_stop, t_end, chunk, each(dt_min), each(dt_max), each(checked, bool))
+        out = self.program(carry.carry, carry.pending, params, *args)
         c, pending, records, n, failed, stop, its = out
         return BatchChunk(BatchCarry(c, pending), records, n, failed, stop, its)
 
@@ -220,6 +236,12 @@ class Stepper:
             raise InputError("solve runs one design: use start and run for a batch")
         if not (dt > 0.0 and math.isfinite(dt)):
             raise InputError(f"dt must be positive, got {dt}")
+        row = jax.eval_shape(self.save.observe, state, params)
+        if not (isinstance(row, dict) and "t" in row):
+            raise InputError(
+                "solve records the time of each step: the observer (SaveAt.observe) must "
+                "return a mapping with a 't' entry"
+            )
         dt_min = dt * 1e-4 if dt_min is None else dt_min
         dt_max = dt if dt_max is None else dt_max
         carry, rows, failed = self.start(state, dt), [], False
@@ -233,12 +255,14 @@ class Stepper:
         steps, cause = int(carry.accepted), int(carry.cause)
         msg = "converged"
         if failed:
-            msg = message(carry.info, f"dynamics, step {steps + 1}")
+            # The attempt that failed, with its own status (the loop's is STEP_TOO_SMALL).
+            last = dataclasses.replace(carry.info, status=jnp.asarray(cause))
+            msg = message(last, f"dynamics, step {steps + 1}")
             if not is_fatal(cause):
-                msg += f"; dt cut below dt_min = {dt_min:g} s (last attempt: {describe(cause)})"
+                msg += f"; dt cut below dt_min = {dt_min:g} s"
             if throw:
                 raise SolverError(msg)
-        times = np.asarray(records["t"]) if records is not None and "t" in records else None
+        times = np.zeros(0) if records is None else np.asarray(records["t"])
         return Solution(
             state=carry.state,
             times=times,
