@@ -110,9 +110,9 @@ class Grooves(Substrate):
         pitch: groove spacing (period), mm; > 0.
         phase: x of the left wall of groove 0, mm.
         top: level of the land between grooves, mm.
-        fillet_top: radius of the convex land corners, mm; <= width/2, <= (pitch - width)/2.
+        fillet_top: radius of the convex land corners, mm; <= width/2, <= (pitch - width)/2,
+            and fillet_top + fillet_bottom <= depth, so both fit on the wall.
         fillet_bottom: radius of the concave bottom corners, mm; <= width/2.
-        (and fillet_top + fillet_bottom <= depth, so both fit on the wall).
     """
 
     width: jax.Array
