@@ -28,7 +28,6 @@ from bristlecrawler.errors import InputError
 from bristlecrawler.reduced.bristled.body import (
     Bodies,
     NewtonOptions,
-    actuator_forces,
     energy,
     equilibrium,
 )
@@ -37,7 +36,7 @@ from bristlecrawler.reduced.bristled.crawl import (
     SlideOptions,
     Tally,
     correct,
-    predict,
+    step,
 )
 from bristlecrawler.reduced.bristled.path import (
     GroovedSurface,
@@ -130,12 +129,14 @@ class RunOptions:
 
     Attributes:
         ds: largest step of the shortening, mm.
+        refine: a step in which a sliding tip snaps is played again in this many steps.
         extrapolate: run again with steps of 2 ds for the work's quasi-static limit
             (:attr:`BristledResult.work_limit`; half again the time).
         newton: the body's equilibrium solve. slide: the slide corrector.
     """
 
     ds: float = 0.1
+    refine: int = 8
     extrapolate: bool = False
     newton: NewtonOptions = field(default_factory=NewtonOptions)
     slide: SlideOptions = field(default_factory=SlideOptions)
@@ -305,20 +306,25 @@ def _play(designs, cycles: int, options: RunOptions) -> BristledResult:
     half = max(1, math.ceil(float(s_max.max()) / options.ds))
     ramp = np.concatenate([np.arange(1, half + 1), np.arange(half - 1, -1, -1)]) / half
     front = [_front(bodies, pose[0])]
-    force_work = np.zeros(len(designs))
     s_old = zero
+    state = (pose, u, None)
     for _ in range(cycles):
         for frac in ramp:
             s_new = np.repeat((frac * s_max)[:, None], segs, axis=1)
-            f_old = actuator_forces(bodies, pose[0], pose[2], s_old)
-            pose = predict(bodies, contacts, pose, u, s_old, s_new, tally, options.newton)
-            f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
-            force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
-            pose, u = correct(
-                bodies, contacts, pose, u, s_new, tally, options.slide, options.newton
+            state = step(
+                bodies,
+                contacts,
+                state,
+                s_old,
+                s_new,
+                tally,
+                options.slide,
+                options.newton,
+                options.refine,
             )
             s_old = s_new
-        front.append(_front(bodies, pose[0]))
+        front.append(_front(bodies, state[0][0]))
+    pose = state[0]
     e1 = energy(bodies, pose[0], pose[1], zero)
     return BristledResult(
         front=np.stack(front, -1),
@@ -327,7 +333,7 @@ def _play(designs, cycles: int, options: RunOptions) -> BristledResult:
         coulomb=tally.coulomb,
         elastic=e1[0] - e0[0],
         gravity=e1[1] - e0[1],
-        force_work=force_work,
+        force_work=tally.force_work,
         lifts=tally.lifts,
         unconverged=tally.unconverged,
         stalled=tally.stalled,
