@@ -47,7 +47,8 @@ class SlideOptions:
     """The slide corrector.
 
     Attributes:
-        du_max: largest slide of a tip in one iteration of a snap's run, mm.
+        du_max: largest first slide of a tip in a snap's run, mm.
+        du_run: largest slide of a tip in one iteration of a snap's run, mm.
         du_cap: largest slide of a tip in one Newton iteration of the joint slide solve, mm.
         solve_iterations: Newton iterations of the joint slide solve at most (a solve that
             needs more is taken for a snap, and its tips run on).
@@ -59,6 +60,7 @@ class SlideOptions:
     """
 
     du_max: float = 0.01
+    du_run: float = 0.05
     du_cap: float = 0.1
     solve_iterations: int = 12
     tol: float = 1e-6
@@ -251,13 +253,15 @@ def _put(state, rows, sub):
 
 def _slide_step(excess, last_ex, last_du, opts):
     """How far each tip beyond its cone slides next: a secant step on its excess force
-    along the path, at most ``du_max`` (the full step where the excess does not fall)."""
+    along the path, at most ``du_max`` at first and at most twice the last step after that,
+    up to ``du_run`` (a long snap runs on in growing steps)."""
     moved = last_du > 0
     secant = (last_ex - excess) / np.where(moved, last_du, 1.0)
     slope = np.where(moved, secant, opts.stiffness)
     slope = np.where(slope > 0.05 * opts.stiffness, slope, 0.0)
     du = np.where(slope > 0, excess / np.where(slope > 0, slope, 1.0), opts.du_max)
-    du = np.clip(du, 1e-9, opts.du_max)
+    cap = np.clip(2.0 * last_du, opts.du_max, opts.du_run)
+    du = np.clip(du, 1e-9, cap)
     return np.where(excess > opts.tol, du, 0.0)
 
 
@@ -354,8 +358,11 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
         live = (excess > opts.tol).any(axis=1) | changed
         if not live.any():
             break
-        # A snapping tip is solved for again once its resistance rises.
-        snapping &= ~((last_du > 0) & (excess < last_ex)).any(axis=1)
+        # A snapping tip is solved for again once its resistance rises enough that, by the
+        # secant, its stop is within one Newton iteration's reach.
+        slope = (last_ex - excess) / np.where(last_du > 0, last_du, 1.0)
+        near_stop = (last_du > 0) & (slope > 0) & (excess < slope * opts.du_cap)
+        snapping &= ~near_stop.any(axis=1)
         du = _slide_step(excess, last_ex, last_du, opts)
         du = np.where(changed[:, None], 0.0, du)
         new_pose, new_u = pose, u
