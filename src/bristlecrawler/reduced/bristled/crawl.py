@@ -203,7 +203,12 @@ def step(bodies, contacts, state, s_old, s_new, tally: Tally, opts, newton, refi
     f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
     trial.force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
     pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
-    new = (pose, u_new, sliding_tips(bodies, contacts, pose, u, u_new, opts))
+    carried = sliding_tips(bodies, contacts, pose, u, u_new, opts)
+    if carry is not None:
+        # Where s stood still nothing moved, and what was sliding still is.
+        still = np.all(s_new == s_old, axis=1)[:, None]
+        carried = tuple(np.where(still, a, b) for a, b in zip(carry, carried, strict=True))
+    new = (pose, u_new, carried)
     redo = np.flatnonzero(snapped) if refine > 1 else np.zeros(0, int)
     keep = np.ones(len(u), bool)
     keep[redo] = False
