@@ -39,7 +39,7 @@ from bristlecrawler.reduced.bristled.body import (
     potential,
     tips_of,
 )
-from bristlecrawler.reduced.bristled.slide import slide_equilibrium
+from bristlecrawler.reduced.bristled.slide import solve_slides
 
 
 @dataclass(frozen=True)
@@ -136,7 +136,7 @@ def predict(
 ):
     """The predictor: the equilibrium at ``s_new`` with the tips held, except those in
     ``carry`` = (sliding (D, B), direction (D, B)), the tips that were sliding at
-    ``s_old``, which go on sliding on their cones' edges (:func:`_solve_slides`; one that
+    ``s_old``, which go on sliding on their cones' edges (:func:`.slide.solve_slides`; one that
     would go backwards sticks). ``pose`` is (q, phi, lambda, held); returns (pose, u).
 
     The actuator's work over the step is the rise of Pi = E_el + E_g plus what the
@@ -151,7 +151,7 @@ def predict(
     snapped = np.zeros(len(u), bool)
     if carry is not None and carry[0].any():
         rows = np.flatnonzero(carry[0].any(axis=1))
-        p_c, u_c, ok_c = _solve_slides(
+        p_c, u_c, ok_c = solve_slides(
             bodies.take(rows),
             contacts.take(rows),
             tuple(a[rows] for a in pose),
@@ -160,8 +160,8 @@ def predict(
             np.zeros_like(carry[0][rows]),
             carry[0][rows],
             carry[1][rows],
-            opts,
-            newton,
+            opts.du_cap,
+            dataclasses.replace(newton, iterations=opts.solve_iterations),
         )
         new_pose = tuple(a.copy() for a in pose)
         for a, b in zip(new_pose, p_c, strict=True):
@@ -291,39 +291,6 @@ def _lift_and_touch(bodies, contacts, pose, u, s, opts):
     return held, u, (lift | below).any(axis=1)
 
 
-def _solve_slides(bodies, contacts, pose, u, s, must, sliding, dirn, opts, newton):
-    """The stops of the tips that may slide (``sliding``, (D, B)) found together
-    (:func:`.slide.slide_equilibrium`), the others sticking; a tip that would slide
-    backwards sticks instead and the rest are solved again. Returns (pose, u, accepted
-    (D,)): not accepted where the solve failed or a tip that ``must`` slide (one beyond its
-    cone) would go backwards (its resistance falls as it goes: a snap, which the caller
-    runs on)."""
-    accepted = np.zeros(len(u), bool)
-    out_pose, out_u = pose, u
-    for _ in range(u.shape[1]):
-        new_pose, new_u, ok = slide_equilibrium(
-            bodies,
-            contacts,
-            pose,
-            u,
-            s,
-            sliding,
-            dirn,
-            opts.du_cap,
-            dataclasses.replace(newton, iterations=opts.solve_iterations),
-        )
-        back = sliding & (dirn * (new_u - u) < -1e-12)
-        good = ok & ~back.any(axis=1) & ~accepted
-        out_pose = _where(good, new_pose, out_pose)
-        out_u = np.where(good[:, None], new_u, out_u)
-        accepted |= good
-        retry = ok & ~accepted & ~(back & must).any(axis=1)
-        if not retry.any():
-            break
-        sliding = np.where(retry[:, None], sliding & ~back, sliding)
-    return out_pose, out_u, accepted
-
-
 def _where(mask, new, old):
     """``new`` where ``mask`` (D,), else ``old``: tuples of arrays over designs."""
     return tuple(np.where(_col(mask, a), b, a) for a, b in zip(old, new, strict=True))
@@ -347,8 +314,9 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
     """The slide corrector at frozen ``s``: returns (pose, u).
 
     Each iteration finds the stops of every tip beyond its cone together
-    (:func:`_solve_slides`); where there is none nearby (a snap: the resistance falls as
-    the tip goes) the tips run on in steps of at most ``du_max`` until it rises again."""
+    (:func:`.slide.solve_slides`); where there is none nearby (a snap: the resistance
+    falls as the tip goes) the tips run on in growing steps (``du_max`` to ``du_run``)
+    until their stop is within a Newton iteration's reach."""
     opts, newton = opts or SlideOptions(), newton or NewtonOptions()
     start = potential(bodies, pose[0], pose[1], s)
     rows = np.arange(len(u))
@@ -374,7 +342,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
         solved = np.zeros(len(u), bool)
         trial = rows[live & ~changed & ~snapping]
         if trial.size:
-            p_t, u_t, ok_t = _solve_slides(
+            p_t, u_t, ok_t = solve_slides(
                 bodies.take(trial),
                 contacts.take(trial),
                 tuple(a[trial] for a in pose),
@@ -383,8 +351,8 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
                 excess[trial] > opts.tol,
                 excess[trial] > -opts.near,
                 dirn[trial],
-                opts,
-                newton,
+                opts.du_cap,
+                dataclasses.replace(newton, iterations=opts.solve_iterations),
             )
             solved[trial] = ok_t
             snapping[trial] |= ~ok_t

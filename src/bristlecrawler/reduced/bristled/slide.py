@@ -112,3 +112,39 @@ def slide_equilibrium(
         x[act] = xa + step
     q, phi, lam = _split(x[:, :n0], B)
     return (q, phi, lam, held), x[:, n0:], done
+
+
+def solve_slides(bodies, contacts, pose, u, s, must, sliding, dirn, du_cap, newton):
+    """The stops of the tips that may slide (``sliding``, (D, B)) found together
+    (:func:`slide_equilibrium`), the others sticking; a tip that would slide
+    backwards sticks instead and the rest are solved again. Returns (pose, u, accepted
+    (D,)): not accepted where the solve failed or a tip that ``must`` slide (one beyond its
+    cone) would go backwards (its resistance falls as it goes: a snap, which the caller
+    runs on)."""
+    accepted = np.zeros(len(u), bool)
+    out_pose, out_u = pose, u
+    for _ in range(u.shape[1]):
+        new_pose, new_u, ok = slide_equilibrium(
+            bodies,
+            contacts,
+            pose,
+            u,
+            s,
+            sliding,
+            dirn,
+            du_cap,
+            newton,
+        )
+        back = sliding & (dirn * (new_u - u) < -1e-12)
+        good = ok & ~back.any(axis=1) & ~accepted
+        out_pose = tuple(
+            np.where(good.reshape(good.shape + (1,) * (np.ndim(a) - 1)), b, a)
+            for a, b in zip(out_pose, new_pose, strict=True)
+        )
+        out_u = np.where(good[:, None], new_u, out_u)
+        accepted |= good
+        retry = ok & ~accepted & ~(back & must).any(axis=1)
+        if not retry.any():
+            break
+        sliding = np.where(retry[:, None], sliding & ~back, sliding)
+    return out_pose, out_u, accepted
