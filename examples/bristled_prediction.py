@@ -7,6 +7,7 @@ set against the FE crawler's. ::
 
     python examples/bristled_prediction.py              # the table, as markdown
     python examples/bristled_prediction.py --only 2     # the two-bristle designs only
+    python examples/bristled_prediction.py --only 2 --ds 0.05   # with finer steps of s
 
 ``FE_RESULTS`` holds the FE numbers of docs/findings.md (the pitch study, the bristle-count
 study, the three-bristle design at 30 degrees, and the grid designs that finished).
@@ -71,7 +72,7 @@ def spec_of(overrides):
 
 def rows(only: int | None = None, options: RunOptions | None = None):
     """One row per design: the FE's and the bristled model's advance and work."""
-    options = options or RunOptions(extrapolate=True)
+    options = options or RunOptions()
     items = [(o, fe) for o, fe in FE_RESULTS.items()]
     specs = [spec_of(o) for o, _ in items]
     out = []
@@ -97,8 +98,8 @@ def rows(only: int | None = None, options: RunOptions | None = None):
                     "within_pitch": bool(miss <= pitch),
                     "within_half_pitch": bool(miss <= 0.5 * pitch),
                     "fe_work_mJ": fe_work,
-                    "model_work_mJ": float(r.work_limit[k]),
-                    "work_error": float(r.work_limit[k] / fe_work - 1.0),
+                    "model_work_mJ": float(r.work[k]),
+                    "work_error": float(r.work[k] / fe_work - 1.0),
                     "ok": bool(r.ok[k]),
                     "seconds": seconds,
                     "note": note,
@@ -129,8 +130,9 @@ def markdown(table) -> str:
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", type=int, help="only the designs with this many bristles")
+    parser.add_argument("--ds", type=float, default=RunOptions.ds, help="stroke step, mm")
     args = parser.parse_args(argv)
-    table = rows(args.only)
+    table = rows(args.only, RunOptions(ds=args.ds))
     print(markdown(table))
     n = len(table)
     one = sum(r["within_pitch"] for r in table)

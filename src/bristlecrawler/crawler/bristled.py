@@ -3,6 +3,8 @@ stroke, solved with no FE (:mod:`bristlecrawler.reduced.bristled`)."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from bristlecrawler.crawler.spec import CrawlerSpec
@@ -46,19 +48,8 @@ def bristled_design(spec: CrawlerSpec) -> BristledDesign:
     a = spec.actuation
     if a.gait != "breathing" or a.history is not None:
         raise InputError("the bristled model plays the breathing sin^2 stroke only")
-    bristles = tuple(
-        TaperedBristle(
-            length=b.length,
-            width=b.width,
-            thickness_clamp=b.thickness_clamp,
-            thickness_tip=b.thickness_tip,
-            youngs_modulus=b.youngs_modulus,
-            poisson_ratio=b.poisson_ratio,
-            alpha_deg=b.alpha_deg,
-            shear=b.shear,
-        )
-        for b in spec.bristles
-    )
+    names = [f.name for f in dataclasses.fields(TaperedBristle)]
+    bristles = tuple(TaperedBristle(**{n: getattr(b, n) for n in names}) for b in spec.bristles)
     x = spec.positions()
     return BristledDesign(
         bristles=bristles,
@@ -77,18 +68,18 @@ def bristled_design(spec: CrawlerSpec) -> BristledDesign:
 
 def bristled_metrics(spec: CrawlerSpec, cycles: int | None = None) -> RunMetrics:
     """The bristled model's advance and work for ``spec`` (``cycles`` strokes, default the
-    spec's; the work its quasi-static limit, ``BristledResult.work_limit``). Raises
+    spec's). Raises
     :class:`~bristlecrawler.errors.SolverError` where its run failed."""
     from bristlecrawler.errors import SolverError
 
-    r = run([bristled_design(spec)], cycles or spec.actuation.cycles, RunOptions(extrapolate=True))
+    r = run([bristled_design(spec)], cycles or spec.actuation.cycles, RunOptions())
     if not bool(r.ok[0]):
         raise SolverError(
             f"the bristled model did not settle ({int(r.unconverged[0])} equilibrium solves "
             f"failed, {int(r.stalled[0])} steps' slides did not settle)"
         )
     adv = r.advance_per_cycle[0]
-    work = float(r.work_limit[0])
+    work = float(r.work[0])
     return RunMetrics(float(r.net_advance[0]), tuple(float(v) for v in adv), work)
 
 

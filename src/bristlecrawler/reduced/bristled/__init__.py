@@ -10,7 +10,7 @@ no FE in the loop (the model's equations, assumptions and limits:
 * :class:`GroovedSurface`, :class:`PolylineSurface`, :class:`TipPath`: the substrate and
   where a bristle's tip can be on it.
 * :class:`BristledDesign`, :func:`run` -> :class:`BristledResult`: a batch of designs
-  played quasi-statically, stroke by stroke.
+  played quasi-statically, stroke by stroke (:func:`play`: any sequence of shortenings).
 """
 
 from bristlecrawler.reduced.bristled.elastica import elastica_tip
@@ -19,8 +19,10 @@ from bristlecrawler.reduced.bristled.model import (
     BristledDesign,
     BristledResult,
     RunOptions,
+    breathing_fractions,
     chain_of,
     path_of,
+    play,
     run,
 )
 from bristlecrawler.reduced.bristled.path import GroovedSurface, PolylineSurface, TipPath
@@ -36,8 +38,10 @@ __all__ = [
     "RunOptions",
     "TaperedBristle",
     "TipPath",
+    "breathing_fractions",
     "chain_of",
     "elastica_tip",
     "path_of",
+    "play",
     "run",
 ]

@@ -70,7 +70,8 @@ class Bodies:
 def node_places(bodies: Bodies, s) -> np.ndarray:
     """d_i: where each body node is along the axis with the segments shortened by ``s``
     (D, B-1) mm, (D, B)."""
-    return bodies.place - np.einsum("dij,dj->di", bodies.behind, s)
+    # Elementwise sums, not einsum: a design's numbers must not depend on its batch.
+    return bodies.place - np.sum(bodies.behind * s[:, None, :], axis=-1)
 
 
 def _rot(theta, v):
@@ -133,7 +134,7 @@ def actuator_forces(bodies: Bodies, q, lam, s) -> np.ndarray:
     axis = np.stack([np.cos(q[:, 2]), np.sin(q[:, 2])], -1)[:, None, :]
     per_node = np.sum(lam * axis, -1) + bodies.weight * np.sin(q[:, 2:3])
     per_node = np.where(bodies.on, per_node, 0.0)
-    return -np.einsum("di,dij->dj", per_node, bodies.behind)
+    return -np.sum(per_node[:, :, None] * bodies.behind, axis=1)
 
 
 def _kkt(bodies: Bodies, q, phi, lam, tips, s, held):
@@ -218,10 +219,10 @@ def equilibrium(bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions 
         r, K = _kkt(bodies.take(act), qa, pa, la, tips[act], s[act], held[act])
         small = np.abs(r).max(axis=1) < opts.tol
         done[act[small]] = True
-        try:
-            step = -np.linalg.solve(K, r[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            step = -np.linalg.lstsq(K[0], r[0], rcond=None)[0][None]
+        # A singular system (one design's) must not stop the batch: that design stays put.
+        ok = np.abs(np.linalg.det(K)) > 1e-300
+        K[~ok] = np.eye(K.shape[1])
+        step = -np.linalg.solve(K, np.where(ok[:, None], r, 0.0)[..., None])[..., 0]
         ang = np.abs(step[:, 3:].reshape(-1, B, 4)[..., :2]).max(axis=(1, 2))
         scale = np.minimum(1.0, opts.max_angle / np.maximum(ang, 1e-300))
         x[act] = np.where(small[:, None], xa, xa + scale[:, None] * step)

@@ -17,7 +17,6 @@ tip radius (both cached in the process). Units: mm, N, s, tonne, mJ.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
@@ -28,7 +27,6 @@ from bristlecrawler.errors import InputError
 from bristlecrawler.reduced.bristled.body import (
     Bodies,
     NewtonOptions,
-    actuator_forces,
     energy,
     equilibrium,
 )
@@ -37,7 +35,7 @@ from bristlecrawler.reduced.bristled.crawl import (
     SlideOptions,
     Tally,
     correct,
-    predict,
+    step,
 )
 from bristlecrawler.reduced.bristled.path import (
     GroovedSurface,
@@ -130,13 +128,12 @@ class RunOptions:
 
     Attributes:
         ds: largest step of the shortening, mm.
-        extrapolate: run again with steps of 2 ds for the work's quasi-static limit
-            (:attr:`BristledResult.work_limit`; half again the time).
+        refine: a step in which a sliding tip snaps is played again in this many steps.
         newton: the body's equilibrium solve. slide: the slide corrector.
     """
 
     ds: float = 0.1
-    extrapolate: bool = False
+    refine: int = 8
     newton: NewtonOptions = field(default_factory=NewtonOptions)
     slide: SlideOptions = field(default_factory=SlideOptions)
 
@@ -157,12 +154,6 @@ class BristledResult:
         unconverged: equilibrium solves that did not converge.
         stalled: steps whose slide corrector did not settle within its iterations.
         s_max: the designs' strokes, mm.
-        work_limit: the actuators' work as the steps go to zero, mJ: Richardson's
-            extrapolation 2 W(ds) - W(2 ds). Each stick predictor loads the tips past
-            their cones before the corrector lets them slide back onto them, and the
-            energy so stored and released is proportional to the step: W(ds) lies above
-            the quasi-static work by a term linear in ds. NaN unless
-            ``RunOptions.extrapolate``.
     """
 
     front: np.ndarray
@@ -176,7 +167,6 @@ class BristledResult:
     unconverged: np.ndarray
     stalled: np.ndarray
     s_max: np.ndarray
-    work_limit: np.ndarray | None = None
 
     @property
     def advance_per_cycle(self) -> np.ndarray:
@@ -278,19 +268,32 @@ def _put_down(bodies: Bodies, contacts: Contacts, designs, newton):
 
 def run(designs, cycles: int = 2, options: RunOptions = RunOptions()) -> BristledResult:
     """Play ``cycles`` breathing strokes on each of ``designs`` (a sequence of
-    :class:`BristledDesign`), all at once."""
+    :class:`BristledDesign`), all at once: every segment shortens from 0 to s~ and back in
+    steps of at most ``options.ds`` mm (of the batch's largest s~)."""
+    designs = list(designs)
+    top = max(d.s_max for d in designs)
+    return play(designs, [breathing_fractions(top, options.ds)] * cycles, options)
+
+
+def breathing_fractions(s_max: float, ds: float) -> np.ndarray:
+    """One breathing stroke's values of s / s~, from 0 up to 1 and back to 0 (the first 0
+    left out) in steps of at most ``ds`` mm of a stroke ``s_max`` mm."""
+    half = max(1, math.ceil(float(s_max) / ds))
+    return np.concatenate([np.arange(1, half + 1), np.arange(half - 1, -1, -1)]) / half
+
+
+def play(designs, strokes, options: RunOptions = RunOptions()) -> BristledResult:
+    """Play ``strokes`` on each of ``designs``, all at once: ``strokes`` one sequence per
+    cycle of the values the shortening passes through, as fractions of each design's s~
+    (from the rest shape; ``options.ds`` is not used). The
+    model is quasi-static: only these values matter, not how fast they are played."""
     designs = list(designs)
     # A design whose solve fails is marked (BristledResult.ok), not a warning to print.
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        fine = _play(designs, cycles, options)
-        limit = np.full(len(designs), np.nan)
-        if options.extrapolate:
-            coarse = _play(designs, cycles, dataclasses.replace(options, ds=2.0 * options.ds))
-            limit = 2.0 * fine.work - coarse.work
-    return dataclasses.replace(fine, work_limit=limit)
+        return _play(designs, [np.asarray(c, dtype=float) for c in strokes], options)
 
 
-def _play(designs, cycles: int, options: RunOptions) -> BristledResult:
+def _play(designs, strokes, options: RunOptions) -> BristledResult:
     for d in designs:
         d.check()
     bodies, s_max = _bodies(designs)
@@ -302,23 +305,26 @@ def _play(designs, cycles: int, options: RunOptions) -> BristledResult:
     pose, u = correct(bodies, contacts, pose, u, zero, tally, options.slide, options.newton)
     e0 = energy(bodies, pose[0], pose[1], zero)
     tally = Tally.zeros(len(designs))
-    half = max(1, math.ceil(float(s_max.max()) / options.ds))
-    ramp = np.concatenate([np.arange(1, half + 1), np.arange(half - 1, -1, -1)]) / half
     front = [_front(bodies, pose[0])]
-    force_work = np.zeros(len(designs))
     s_old = zero
-    for _ in range(cycles):
+    state = (pose, u, None)
+    for ramp in strokes:
         for frac in ramp:
             s_new = np.repeat((frac * s_max)[:, None], segs, axis=1)
-            f_old = actuator_forces(bodies, pose[0], pose[2], s_old)
-            pose = predict(bodies, contacts, pose, u, s_old, s_new, tally, options.newton)
-            f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
-            force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
-            pose, u = correct(
-                bodies, contacts, pose, u, s_new, tally, options.slide, options.newton
+            state = step(
+                bodies,
+                contacts,
+                state,
+                s_old,
+                s_new,
+                tally,
+                options.slide,
+                options.newton,
+                options.refine,
             )
             s_old = s_new
-        front.append(_front(bodies, pose[0]))
+        front.append(_front(bodies, state[0][0]))
+    pose = state[0]
     e1 = energy(bodies, pose[0], pose[1], zero)
     return BristledResult(
         front=np.stack(front, -1),
@@ -327,7 +333,7 @@ def _play(designs, cycles: int, options: RunOptions) -> BristledResult:
         coulomb=tally.coulomb,
         elastic=e1[0] - e0[0],
         gravity=e1[1] - e0[1],
-        force_work=force_work,
+        force_work=tally.force_work,
         lifts=tally.lifts,
         unconverged=tally.unconverged,
         stalled=tally.stalled,

@@ -252,6 +252,23 @@ class PathTable:
         n = np.stack([-t[..., 1], t[..., 0]], -1)
         return np.stack([x, y], -1), t, n
 
+    def derivatives(self, which, u):
+        """d(centre)/du (..., 2) and the curvature d(angle)/du (1/mm) at arc length ``u``
+        (mm), as :meth:`frame` interpolates them: the centre linearly (its derivative the
+        sample interval's chord) and the angle linearly (its curvature constant over each
+        interval)."""
+        m = self.x.shape[1] - 1
+        length = self.length[which]
+        k = (u / length - np.floor(u / length)) * m
+        i = np.clip(np.floor(k).astype(int), 0, m - 1)
+        a0, a1 = self.angle[which, i], self.angle[which, i + 1]
+        h = length / m
+        chord = np.stack(
+            [self.x[which, i + 1] - self.x[which, i], self.y[which, i + 1] - self.y[which, i]],
+            -1,
+        )
+        return chord / h[..., None], ((a1 - a0 + np.pi) % (2 * np.pi) - np.pi) / h
+
     def _per_path(self, which, x, table):
         """Interpolate ``table(path) -> (xs, values)`` at ``x`` on the paths ``which``,
         one period's x folded in; returns (values, whole periods)."""
