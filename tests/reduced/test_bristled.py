@@ -187,3 +187,16 @@ def test_the_run_converges_as_the_steps_of_s_shrink():
     adv = [float(x.net_advance[0]) for x in r]
     assert max(adv) - min(adv) < 0.01
     assert r[2].work[0] == pytest.approx(r[2].force_work[0], rel=2e-3)
+
+
+def test_the_bristled_models_bristle_defaults_are_the_fe_crawlers():
+    """The reduced layer cannot import the crawler's declarations: the two default
+    bristles are kept equal here."""
+    import dataclasses
+
+    from bristlecrawler.crawler.spec import Bristle
+    from bristlecrawler.reduced.bristled import TaperedBristle
+
+    declared = {f.name: f.default for f in dataclasses.fields(Bristle)}
+    for f in dataclasses.fields(TaperedBristle):
+        assert f.default == declared[f.name], f.name

@@ -137,7 +137,7 @@ def actuator_forces(bodies: Bodies, q, lam, s) -> np.ndarray:
     return -np.sum(per_node[:, :, None] * bodies.behind, axis=1)
 
 
-def _kkt(bodies: Bodies, q, phi, lam, tips, s, held):
+def kkt(bodies: Bodies, q, phi, lam, tips, s, held):
     """Residual (D, n) and Jacobian (D, n, n) of the equilibrium, n = 3 + 4B, unknowns
     ordered (X, Y, theta, then per bristle phi_1, phi_2, lambda_x, lambda_y). A tip not
     ``held`` (D, B) is off the substrate: its rod is at rest and carries nothing."""
@@ -215,8 +215,8 @@ def equilibrium(bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions 
         if act.size == 0:
             break
         xa = x[act]
-        qa, pa, la = _split(xa, B)
-        r, K = _kkt(bodies.take(act), qa, pa, la, tips[act], s[act], held[act])
+        qa, pa, la = split_unknowns(xa, B)
+        r, K = kkt(bodies.take(act), qa, pa, la, tips[act], s[act], held[act])
         small = np.abs(r).max(axis=1) < opts.tol
         done[act[small]] = True
         # A singular system (one design's) must not stop the batch: that design stays put.
@@ -226,10 +226,10 @@ def equilibrium(bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions 
         ang = np.abs(step[:, 3:].reshape(-1, B, 4)[..., :2]).max(axis=(1, 2))
         scale = np.minimum(1.0, opts.max_angle / np.maximum(ang, 1e-300))
         x[act] = np.where(small[:, None], xa, xa + scale[:, None] * step)
-    q, phi, lam = _split(x, B)
+    q, phi, lam = split_unknowns(x, B)
     return q, phi, lam, done
 
 
-def _split(x, B):
+def split_unknowns(x, B):
     rest = x[:, 3:].reshape(-1, B, 4)
     return x[:, :3], rest[..., :2], rest[..., 2:]

@@ -29,24 +29,19 @@ the bristle takes the one of least energy. Units: mm, N, MPa, mJ.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from bristlecrawler.crawler.spec import Bristle as _DeclaredBristle
-
 _KAPPA = 5.0 / 6.0
-
-# The bristle's defaults are the FE crawler's (one declaration, crawler.spec.Bristle).
-_DEFAULT = {f.name: f.default for f in dataclasses.fields(_DeclaredBristle)}
 
 
 @dataclass(frozen=True)
 class TaperedBristle:
-    """A linearly tapered rectangular bristle (the defaults are those of
-    :class:`bristlecrawler.crawler.spec.Bristle`, the paper's).
+    """A linearly tapered rectangular bristle (the defaults are the paper's, those of
+    :class:`bristlecrawler.crawler.spec.Bristle`: this layer cannot import it, and a test
+    keeps the two equal).
 
     Attributes:
         length: L, mm. width: b, mm. thickness_clamp, thickness_tip: h0, h1, mm.
@@ -55,14 +50,14 @@ class TaperedBristle:
         shear: include the Timoshenko shear compliance (as the FE core's beam does).
     """
 
-    length: float = _DEFAULT["length"]
-    width: float = _DEFAULT["width"]
-    thickness_clamp: float = _DEFAULT["thickness_clamp"]
-    thickness_tip: float = _DEFAULT["thickness_tip"]
-    youngs_modulus: float = _DEFAULT["youngs_modulus"]
-    poisson_ratio: float = _DEFAULT["poisson_ratio"]
-    alpha_deg: float = _DEFAULT["alpha_deg"]
-    shear: bool = _DEFAULT["shear"]
+    length: float = 5.0
+    width: float = 30.0
+    thickness_clamp: float = 3.0
+    thickness_tip: float = 0.5
+    youngs_modulus: float = 1.1
+    poisson_ratio: float = 0.45
+    alpha_deg: float = 45.0
+    shear: bool = True
 
     def thickness(self, s):
         """h(s), mm, at arc length s (mm) from the clamp."""

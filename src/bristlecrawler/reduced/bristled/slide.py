@@ -21,16 +21,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from bristlecrawler.reduced.bristled.body import NewtonOptions, _kkt, _split
+from bristlecrawler.reduced.bristled.body import NewtonOptions, kkt, split_unknowns
 
 
 def _system(bodies, contacts, x, u, u0, sliding, dirn, s, held):
     """Residual (D, n + B) and Jacobian of the equilibrium with the tips' u appended."""
     D, B = u.shape
-    q, phi, lam = _split(x, B)
+    q, phi, lam = split_unknowns(x, B)
     centre, t, n = contacts.frame(u)
     dc, kappa = contacts.derivatives(u)
-    r0, k0 = _kkt(bodies, q, phi, lam, centre, s, held)
+    r0, k0 = kkt(bodies, q, phi, lam, centre, s, held)
     n0 = r0.shape[1]
     r = np.zeros((D, n0 + B))
     K = np.zeros((D, n0 + B, n0 + B))
@@ -110,7 +110,7 @@ def slide_equilibrium(
         taken[act] = np.where(worse[:, None], half, step)
         last[act] = np.where(worse, last[act], size)
         x[act] = xa + step
-    q, phi, lam = _split(x[:, :n0], B)
+    q, phi, lam = split_unknowns(x[:, :n0], B)
     return (q, phi, lam, held), x[:, n0:], done
 
 
