@@ -7,6 +7,7 @@ import dataclasses
 
 import numpy as np
 
+from bristlecrawler.contact.substrates import Flat, Grooves
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError
 from bristlecrawler.reduced.bristled import (
@@ -21,8 +22,6 @@ from bristlecrawler.results.metrics import RunMetrics
 
 
 def _surface(substrate):
-    from bristlecrawler.contact.substrates import Flat, Grooves
-
     if isinstance(substrate, Grooves):
         f = lambda name: float(np.asarray(getattr(substrate, name)))  # noqa: E731
         return GroovedSurface(

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from bristlecrawler.contact.profile import drawing
 from bristlecrawler.states import ContactState
 
 #: Marker of the output reference page that :func:`quantities_markdown` replaces.
@@ -67,8 +68,6 @@ class RunRecords:
 
     def substrate_drawing(self) -> np.ndarray:
         """The substrate's surface 5 mm either side of every recorded node, mm, (K, 2)."""
-        from bristlecrawler.contact.profile import drawing
-
         x = self.x[..., 0]
         profile = self.spec.substrate.profile()
         return np.asarray(drawing(profile, x.min() - 5.0, x.max() + 5.0))

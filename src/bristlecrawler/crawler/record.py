@@ -21,6 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from bristlecrawler.fe import assembly
 from bristlecrawler.fe.programs import stored
 
 #: Columns of a record's ``energies``: elastic, kinetic, potential energy of the loads,
@@ -79,8 +80,6 @@ def state_terms(state, params, topo, terms, contact_index):
     contact and external forces; its sum over a free subtree is the force its support
     applies), the internal (elastic) forces, the contact terms' forces, the contact term's
     history and the energies of a state (see :data:`ENERGY_COLUMNS`)."""
-    from bristlecrawler.fe import assembly
-
     # Every contact term (points, and corners against faces when present) shares the law.
     law = params.extra[contact_index].law
     u, v, a, t = state.u, state.v, state.a, state.t

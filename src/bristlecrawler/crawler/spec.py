@@ -19,9 +19,10 @@ from typing import Any, Literal
 
 import numpy as np
 
-from bristlecrawler.contact.substrates import Substrate
+from bristlecrawler.contact.substrates import Grooves, Substrate
 from bristlecrawler.crawler.solver import Solver
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe import TaperedRect
 from bristlecrawler.fe.options import Settings, check_settings, renamed, setting
 
 #: Largest inclination from the vertical a bristle may have, degrees.
@@ -109,8 +110,6 @@ class Bristle(Settings):
 
     def section(self):
         """The bristle's :class:`fe.TaperedRect` (linear taper from clamp to tip)."""
-        from bristlecrawler.fe import TaperedRect
-
         return TaperedRect(
             E=self.youngs_modulus,
             b=self.width,
@@ -322,8 +321,6 @@ class Actuation(Settings):
 
 def _paper_substrate():
     # The paper's grooves (Section 2: 1 mm wide, 0.25 mm deep); the pitch is not given.
-    from bristlecrawler.contact.substrates import Grooves
-
     return Grooves(width=1.0, depth=0.25, pitch=2.0, fillet_top=0.02)
 
 
