@@ -65,12 +65,22 @@ def test_api_reference_documents_the_reduced_model(site):
         assert name in html, name
 
 
-def test_outputs_reference_lists_every_variable_of_reduced_nc():
+def test_outputs_reference_lists_every_variable_of_reduced_nc(site):
+    """The file's variables are its declarations, and the built reference page lists
+    each of them (generated from the same declarations) and its coordinates."""
     import bristlecrawler as bc
-    from bristlecrawler.io.netcdf import reduced_dataset
+    from bristlecrawler.io.netcdf import REDUCED_VARIABLES, reduced_dataset
 
-    text = (ROOT / "docs" / "reference" / "outputs.md").read_text()
     res = bc.simulate(bc.ReducedCrawler.two_bristle(), bc.Sin2Stroke(20.0, 20.0), cycles=1)
     ds = reduced_dataset(res)
-    for name in [*ds.data_vars, *ds.coords]:
+    declared = {v.name: v for v in REDUCED_VARIABLES}
+    for name, var in ds.data_vars.items():
+        assert name in declared, name
+        assert var.attrs.get("units", "") == declared[name].unit, name
+    html = (site / "reference" / "outputs" / "index.html").read_text()
+    assert "reduced-variables" not in html
+    for v in REDUCED_VARIABLES:
+        assert f"<td><code>{v.name}</code></td>" in html, v.name
+    text = (ROOT / "docs" / "reference" / "outputs.md").read_text()
+    for name in ds.coords:
         assert f"`{name}`" in text, name
