@@ -14,7 +14,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from bristlecrawler.crawler.spec import (
+from bristlecrawler.crawler.parts import (
     MAX_LENGTH,
     MAX_MU,
     MAX_STEPS,
@@ -22,8 +22,10 @@ from bristlecrawler.crawler.spec import (
     Body,
     Bristle,
     Contact,
-    CrawlerSpec,
     Damping,
+)
+from bristlecrawler.crawler.spec import (
+    CrawlerSpec,
     Solver,
     uniform_bristles,
 )

@@ -28,7 +28,7 @@ from typing import Annotated, Any, ClassVar, Literal
 from pydantic import Field, PrivateAttr, TypeAdapter, ValidationError, field_validator
 
 from bristlecrawler.contact.substrates import Flat, Grooves, Polyline, Sawtooth
-from bristlecrawler.crawler.spec import MAX_LENGTH
+from bristlecrawler.crawler.parts import MAX_LENGTH
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe.options import REQUIRED, Settings, setting
 from bristlecrawler.scenario.strict import StrictSection, bound_message, section_of

@@ -40,7 +40,7 @@ _KAPPA = 5.0 / 6.0
 @dataclass(frozen=True)
 class TaperedBristle:
     """A linearly tapered rectangular bristle (the defaults are the paper's, those of
-    :class:`bristlecrawler.crawler.spec.Bristle`: this layer cannot import it, and a test
+    :class:`bristlecrawler.crawler.parts.Bristle`: this layer cannot import it, and a test
     keeps the two equal).
 
     Attributes:
