@@ -213,9 +213,10 @@ class CoulombLaw(FrictionLaw, law="coulomb"):
         load: float = PAPER_TIP_LOAD,
         design_penetration: float = 1e-3,
         max_stick_drift: float = 1e-4,
-        **deprecated: float,
+        **options: float,
     ) -> CoulombLaw:
-        """Penalties sized for a reference normal load.
+        """Penalties sized for a reference normal load (``options``: the law's own
+        parameters, :meth:`at_load`).
 
         Args:
             mu: friction coefficient, dimensionless.
@@ -232,15 +233,13 @@ class CoulombLaw(FrictionLaw, law="coulomb"):
         ``k_t = max(mu, 0.01) * load / max_stick_drift`` (N/mm); the floor keeps ``k_t``
         positive and meaningful for frictionless contact.
         """
-        if "max_penetration" in deprecated:
+        if "max_penetration" in options:
             warnings.warn(
                 "for_reference_load(max_penetration=...) is deprecated: use design_penetration",
                 DeprecationWarning,
                 stacklevel=2,
             )
-            design_penetration = deprecated.pop("max_penetration")
-        if deprecated:
-            raise TypeError(f"for_reference_load got unexpected keywords {sorted(deprecated)}")
+            design_penetration = options.pop("max_penetration")
         for name, v in (
             ("load", load),
             ("design_penetration", design_penetration),
@@ -252,6 +251,14 @@ class CoulombLaw(FrictionLaw, law="coulomb"):
             raise InputError(f"friction coefficient mu must be finite and >= 0, got {mu!r}")
         k_n = load / design_penetration
         k_t = max(mu, 0.01) * load / max_stick_drift
+        return cls.at_load(mu, k_n, k_t, load, **options)
+
+    @classmethod
+    def at_load(cls, mu: float, k_n: float, k_t: float, load: float, **options) -> CoulombLaw:
+        """The law with these penalties (N/mm) sized at the reference ``load`` (N), which
+        Coulomb's law does not keep; TypeError for an option it does not have."""
+        if options:
+            raise TypeError(f"for_reference_load got unexpected keywords {sorted(options)}")
         return cls(mu=mu, k_n=k_n, k_t=k_t)
 
 

@@ -24,7 +24,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
-from bristlecrawler.contact.coulomb import PAPER_TIP_LOAD, CoulombLaw
+from bristlecrawler.contact.coulomb import CoulombLaw
 from bristlecrawler.errors import InputError
 
 #: The exponent of a Hertzian contact with a constant interfacial shear strength.
@@ -71,16 +71,10 @@ class PowerLaw(CoulombLaw, law="power"):
             raise InputError(f"reference load must be finite and > 0 N, got {load}")
 
     @classmethod
-    def for_reference_load(
-        cls,
-        mu: float,
-        load: float = PAPER_TIP_LOAD,
-        design_penetration: float = 1e-3,
-        max_stick_drift: float = 1e-4,
-        exponent: float = HERTZ_EXPONENT,
+    def at_load(
+        cls, mu: float, k_n: float, k_t: float, load: float, exponent: float = HERTZ_EXPONENT
     ) -> PowerLaw:
-        """The penalties of :meth:`CoulombLaw.for_reference_load` (the friction limit at
-        ``load`` is the same, ``mu load``) with ``load`` the law's reference load and
-        ``exponent`` its m (default 2/3, Hertzian contact)."""
-        base = CoulombLaw.for_reference_load(mu, load, design_penetration, max_stick_drift)
-        return cls(mu=mu, k_n=base.k_n, k_t=base.k_t, exponent=exponent, load=load)
+        """The law with the penalties of :meth:`CoulombLaw.for_reference_load` (the
+        friction limit at ``load`` is the same, ``mu load``), ``load`` its reference load
+        L and ``exponent`` its m (default 2/3, a Hertzian contact)."""
+        return cls(mu=mu, k_n=k_n, k_t=k_t, exponent=exponent, load=load)
