@@ -25,7 +25,7 @@ from bristlecrawler.scenario.experiment import AnalyzeOptions, SynthOptions
 from bristlecrawler.scenario.reduced import ReducedConfig
 from bristlecrawler.scenario.schema import MAX_LENGTH, Scenario
 from bristlecrawler.scenario.strict import option_names
-from bristlecrawler.scenario.substrate import GroovesConfig
+from bristlecrawler.scenario.substrate import SUBSTRATE_KINDS
 
 JUNK = st.sampled_from(["abc", "", "1e", "0x1p3", "1,5", "--", "nan%", "\u00bd"])
 
@@ -98,7 +98,7 @@ def scenario_sets():
         ann = field.annotation
         if isinstance(ann, type) and issubclass(ann, BaseModel):
             pairs += [(f"{section}.{n}", s) for n, _, s in numeric_fields(ann)]
-    pairs += [(f"substrate.{n}", s) for n, _, s in numeric_fields(GroovesConfig)]
+    pairs += [(f"substrate.{n}", s) for n, _, s in numeric_fields(SUBSTRATE_KINDS["grooves"])]
     pairs += [(f"substrate.{n}", far(MAX_LENGTH)) for n in ("phase", "top")]
     pairs += [("gravity", s) for n, _, s in numeric_fields(Scenario) if n == "gravity"]
     words = st.sampled_from(['"abc"', "true", "[1, 2]", "{a = 1}"])

@@ -6,7 +6,9 @@ import pytest
 from bristlecrawler.contact import CoulombLaw, Grooves, Polyline, Sawtooth
 from bristlecrawler.errors import InputError
 from bristlecrawler.scenario import scenario_from_dict
-from bristlecrawler.scenario.substrate import GroovesConfig, parse_substrate
+from bristlecrawler.scenario.substrate import SUBSTRATE_KINDS, parse_substrate
+
+GroovesConfig = SUBSTRATE_KINDS["grooves"]
 
 
 def _refused(match, fn, *args, **kwargs):
