@@ -90,7 +90,7 @@ PRIVATE_EXCEPTIONS: dict[tuple[str, str, str], str] = {}
 
 #: Layer -> third-party modules that importing it must not load.
 NOT_LOADED = {
-    "bristlecrawler.settings": ("numpy", "jax", "pydantic"),
+    "bristlecrawler.settings": ("jax", "pydantic", "matplotlib", "xarray"),
     "bristlecrawler.results": ("jax", "pydantic", "matplotlib", "xarray"),
     "bristlecrawler.fe": ("pydantic", "matplotlib", "xarray", "rich", "typer"),
     "bristlecrawler.contact": ("pydantic", "matplotlib", "xarray", "rich", "typer"),
