@@ -69,7 +69,9 @@ ALLOWED = {
     "export": BASE | {"crawler", "contact"},
     # Run metadata records the package version.
     "io": BASE | {"reduced", TOP},
-    "scenario": BASE | {"fe", "contact", "reduced", "actuators", "crawler", "io"},
+    # The edge validates the input of every model: the experiment commands' options are
+    # generated from the experiment layer's declarations, as a scenario's from the crawler's.
+    "scenario": BASE | {"fe", "contact", "reduced", "actuators", "crawler", "experiment", "io"},
     "viz": BASE | {"reduced", "crawler", "experiment", "io"},
     # Design studies sweep the models the scenarios describe; they run below the jobs.
     "studies": BASE | {"fe", "reduced", "crawler", "scenario", "io", "viz", TOP},

@@ -122,8 +122,8 @@ def _bound_error(name: str, v: float, b: dict, inf: bool) -> str | None:
 
 def check_settings(obj: Any, prefix: str = "") -> None:
     """InputError naming the first setting of ``obj`` outside its declared range (whole
-    numbers for ``int`` fields; NaN never; infinity only where declared; None only where
-    declared; one of the words of a ``Literal`` field)."""
+    numbers for ``int`` fields, text for ``str`` ones; NaN never; infinity only where
+    declared; None only where declared; one of the words of a ``Literal`` field)."""
     hints = typing.get_type_hints(type(obj))
     for f in settings_of(type(obj)):
         v, name = getattr(obj, f.name), f"{prefix}{f.name}"
@@ -135,6 +135,10 @@ def check_settings(obj: Any, prefix: str = "") -> None:
                 raise InputError(f"{name} must be one of {', '.join(map(str, words))}, got {v!r}")
             continue
         if hints[f.name] is bool or isinstance(f.default, bool):
+            continue
+        if _is_str(hints[f.name]):
+            if not isinstance(v, str):
+                raise InputError(f"{name} must be a text, got {v!r}")
             continue
         if _is_int(hints[f.name]) and not isinstance(v, numbers.Integral):
             raise InputError(f"{name} must be a whole number, got {v!r}")
@@ -165,6 +169,10 @@ class Settings:
 
 def _is_int(annotation: Any) -> bool:
     return annotation is int or int in typing.get_args(annotation)
+
+
+def _is_str(annotation: Any) -> bool:
+    return annotation is str or str in typing.get_args(annotation)
 
 
 def _warn(cls_name: str, old: str, new: str) -> None:

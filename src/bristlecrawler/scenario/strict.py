@@ -62,7 +62,7 @@ def pydantic_field(
 
 def section_of(
     settings: type,
-    base: type[StrictSection],
+    base: type[BaseModel],
     doc: str,
     *,
     exclude: tuple[str, ...] = (),
@@ -71,7 +71,7 @@ def section_of(
     validators: dict[str, Any] | None = None,
     name: str | None = None,
     prefix: str = "",
-) -> type[StrictSection]:
+) -> type[BaseModel]:
     """The scenario table of an options dataclass whose fields are declared with
     :func:`fe.options.setting`: one key per setting (but ``exclude``), of the setting's
     name, type and default, its meaning as the description and its range as pydantic
