@@ -11,7 +11,7 @@ from typing import Literal
 
 from bristlecrawler.experiment.recording import DEFAULT_RATE_HZ, Recording
 from bristlecrawler.experiment.synthetic import SensorModel, synthetic_recording
-from bristlecrawler.reduced.crawler import PAPER_CYCLES, PAPER_FP, PAPER_K, ReducedCrawler
+from bristlecrawler.reduced.crawler import PAPER_CYCLES, PAPER_K, ReducedCrawler
 from bristlecrawler.settings import Settings, setting
 
 
@@ -42,7 +42,7 @@ class SynthesisOptions(Settings):
         "sma", "the closed-loop SMA actuator model, or the prescribed sin^2 stroke"
     )
     cycles: int = setting(PAPER_CYCLES, "number of cycles", ge=1, le=1000)
-    fp: float = setting(PAPER_FP, "F_p, resistance along the grain, N", ge=1e-6, le=1e3)
+    fp: float = setting(0.456, "F_p, resistance along the grain, N", ge=1e-6, le=1e3)
     k: float = setting(PAPER_K, "bristle stiffness, N/mm", ge=1e-6, le=1e6)
     noise: float = setting(
         SensorModel.noise_mm, "sensor noise (standard deviation), mm", ge=0, le=100
