@@ -45,8 +45,8 @@ class DragTest:
 
     direction: Direction = setting(  # noqa: RUF009 (a dataclasses.field, as the others)
         "cycle",
-        "along the grain (+x), against it (-x), or cycle: legs legs of distance each, "
-        "along, against, along, ...",
+        "along the grain (+x), against it (-x), or cycle: back and forth, along first, "
+        "legs legs of distance each",
     )
     distance: float = setting(
         20.0,
