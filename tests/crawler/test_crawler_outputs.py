@@ -36,6 +36,7 @@ def test_dataset_round_trip(history, tmp_path):
         assert all("long_name" in ds[v].attrs for v in ds.data_vars)
 
 
+@pytest.mark.slow
 def test_figures_and_animation(history, tmp_path):
     for name, fig in (
         ("d", vc.plot_delta_vs_s(history)),

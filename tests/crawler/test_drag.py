@@ -15,6 +15,7 @@ from bristlecrawler.crawler.drag import (
     drag_tests,
     quasi_static_ratio,
 )
+from bristlecrawler.crawler.model import weight_share
 from bristlecrawler.errors import InputError
 from bristlecrawler.states import ContactState
 from bristlecrawler.verification.references import inclined_horizontal_stiffness
@@ -84,6 +85,27 @@ def test_sliding_on_a_flat_plane_takes_mu_times_the_normal_load():
     np.testing.assert_allclose(r.force_x[slide], 2.0 * normal, rtol=0.03)
     weight = 0.02 + spec.bristles[0].mass * spec.gravity
     assert r.sliding(+1).mean == pytest.approx(2.0 * weight, rel=1e-2)
+
+
+@pytest.mark.slow
+def test_the_power_law_chosen_by_the_scenario_slides_at_the_power_of_its_load():
+    """The rig of the flat-plane test with ``contact.friction = "power"`` (m = 1/2): its
+    law's reference load is the penalty load (the paper's weight share, 0.27 N), and the
+    tip, pressed with about a tenth of it, slides at mu L (N / L)^(1/2), three times
+    Coulomb's mu N."""
+    base, _ = _flat()
+    c = dataclasses.replace(base.contact, friction="power", friction_exponent=0.5)
+    spec = dataclasses.replace(base, contact=c)
+    r = drag_test(spec, DragTest(direction="along", distance=1.5, load=0.02))
+    ref = weight_share(spec)
+    k = r.first_slip(0)
+    assert k is not None
+    slide = slice(k + 2, None)
+    normal = r.contact[slide, 1]
+    law = 2.0 * ref * np.sqrt(normal / ref)
+    assert np.mean(r.force_x[slide]) == pytest.approx(np.mean(law), rel=5e-3)
+    np.testing.assert_allclose(r.force_x[slide], law, rtol=0.03)
+    assert np.mean(r.force_x[slide]) > 2.5 * 2.0 * np.mean(normal)
 
 
 @pytest.mark.slow

@@ -113,7 +113,7 @@ def test_a_substrate_rule_is_the_substrate_s_own():
     with pytest.raises(InputError) as err:
         parse_substrate({"kind": "grooves", "width": 3.0, "depth": 0.25, "pitch": 2.0})
     with pytest.raises(InputError) as direct:
-        KINDS["grooves"](width=3.0, depth=0.25, pitch=2.0).build()
+        KINDS["grooves"](width=3.0, depth=0.25, pitch=2.0)
     assert str(err.value) == str(direct.value) and "pitch" in str(err.value)
 
 

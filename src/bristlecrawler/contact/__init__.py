@@ -7,8 +7,10 @@ Public API (units: mm, N, s, mJ; everything float64 JAX, pure, jit/vmap/grad-abl
   :class:`PeriodicProfile`; :data:`PAPER_GROOVES`, :data:`PAPER_MU`.
 * geometry: :func:`project` -> :class:`Projection` (gap, normal, tangent, closest point,
   arc length), :func:`gap`, :func:`project_points` (jitted, many points).
-* Friction laws: the :class:`FrictionLaw` protocol the contact kernels call, and
-  :class:`CoulombLaw`, :func:`return_map` -> :class:`CoulombStep`,
+* Friction laws: the abstract :class:`FrictionLaw` the contact kernels call (laws
+  registered by name, :meth:`FrictionLaw.of`), :class:`CoulombLaw` and
+  :class:`PowerLaw` (friction growing as a power of the load), :func:`return_map` ->
+  :class:`CoulombStep`,
   :func:`incremental_potential`, :func:`generalized_forces`, :func:`normal_force`,
   :func:`normal_energy`, :func:`friction_potential`; states :data:`OPEN`, :data:`STICK`,
   :data:`SLIP`; :data:`PAPER_TIP_LOAD`; :data:`STICK_TOL` (the stick/slip tie).
@@ -35,6 +37,7 @@ from bristlecrawler.contact.coulomb import (
     return_map,
 )
 from bristlecrawler.contact.node import node_force, node_potential, node_step
+from bristlecrawler.contact.power_law import HERTZ_EXPONENT, PowerLaw
 from bristlecrawler.contact.profile import PeriodicProfile, Projection, gap, project, project_points
 from bristlecrawler.contact.substrates import (
     PAPER_GROOVES,
@@ -47,6 +50,7 @@ from bristlecrawler.contact.substrates import (
 )
 
 __all__ = [
+    "HERTZ_EXPONENT",
     "OPEN",
     "PAPER_GROOVES",
     "PAPER_MU",
@@ -61,6 +65,7 @@ __all__ = [
     "Grooves",
     "PeriodicProfile",
     "Polyline",
+    "PowerLaw",
     "Projection",
     "Sawtooth",
     "Substrate",

@@ -45,8 +45,9 @@ non-symmetric consistent tangent of the non-associative Coulomb law.
 
 from __future__ import annotations
 
+import abc
 import warnings
-from typing import NamedTuple, Protocol, runtime_checkable
+from typing import ClassVar, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -79,42 +80,87 @@ STICK_TOL = 1e-8
 PAPER_TIP_LOAD = 0.055 * 9.81 / 2
 
 
-@runtime_checkable
-class FrictionLaw(Protocol):
-    """What the contact kernels (point, disc and corner terms) ask of a friction law: a
-    pytree whose leaves are the law's parameters (so that they can change without a
-    recompile), with these four methods. A new law (regularised, rate-dependent,
-    directional) is one class that has them; :class:`CoulombLaw` is the one the crawler
-    uses. Every argument broadcasts over contact points.
+class FrictionLaw(abc.ABC):
+    """What the contact kernels (point, disc and corner terms) ask of a friction law.
 
-    * ``step(g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep``: one backward-Euler
-      step from the committed ``anchor`` (mm) to gap ``g`` and arc coordinate ``s`` (mm):
-      the normal force, tangential resistance, new anchor, status, slip, dissipation and
-      stored energy (see :func:`return_map`, and there for ``mode``).
-    * ``forces(g, s, anchor, lambda_n=0.0, mode=None) -> (dPhi/dg, dPhi/ds)`` (N): what
-      the residual takes, differentiable for the tangent; equal to ``(-p_n, f_t)`` of
-      ``step``.
-    * ``potential(g, s, anchor, lambda_n=0.0)``: an incremental potential (mJ, summed over
-      points) whose gradient is ``forces`` where the law has one.
-    * ``penetration(p_n)``: the penetration (mm) at which the law's normal force is
-      ``p_n`` (N), for the run's limit on penetration.
-    * ``stored_energy(p_n, f_t)``: the elastic energy (mJ) its regularisation holds at
-      normal force ``p_n`` and tangential resistance ``f_t`` (N), for the energy balance.
+    A law is a frozen PyTree dataclass (:func:`~bristlecrawler._pytree.pytree`) whose
+    leaves are its parameters (so they change without a recompile), subclassing this class
+    with its name: ``class MyLaw(CoulombLaw, law="mine")`` registers it, and
+    :meth:`of` finds it by that name (the scenario's ``contact.friction``). Every argument
+    broadcasts over contact points. The hooks a law defines:
+
+    * :meth:`normal_force` ``(g, lambda_n) -> p_N`` (N) and :meth:`normal_energy` (mJ,
+      ``d/dg = -p_N``): the normal part;
+    * :meth:`limit` ``(p_N) -> F`` (N): the largest tangential resistance at normal force
+      ``p_N``;
+    * :meth:`penetration` ``(p_N)`` (mm) and :meth:`stored_energy` ``(p_N, f_t)`` (mJ):
+      what the run's limit on penetration and its energy balance read;
+    * the attribute ``k_t`` (N/mm): the stick penalty of the return mapping.
+
+    From them the base class gives what the kernels call: :meth:`step` (one backward-Euler
+    return mapping, :func:`return_map`), :meth:`forces` (the residual's ``(dPhi/dg,
+    dPhi/ds)``, differentiable for the tangent) and :meth:`potential` (an incremental
+    potential whose gradient is ``forces``). A law of another kind (rate-dependent,
+    directional) may override those three instead.
     """
 
-    def step(self, g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep: ...
+    #: Registered laws by name (:meth:`of`).
+    laws: ClassVar[dict[str, type[FrictionLaw]]] = {}
+    #: The law's name in a scenario (``contact.friction``).
+    name: ClassVar[str] = ""
 
-    def forces(self, g, s, anchor, lambda_n=0.0, mode=None) -> tuple[jax.Array, jax.Array]: ...
+    def __init_subclass__(cls, law: str | None = None, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        if law is not None:
+            cls.name = law
+            FrictionLaw.laws[law] = cls
 
-    def potential(self, g, s, anchor, lambda_n=0.0) -> jax.Array: ...
+    @classmethod
+    def of(cls, name: str) -> type[FrictionLaw]:
+        """The law registered as ``name``; InputError naming the known ones."""
+        try:
+            return FrictionLaw.laws[name]
+        except KeyError:
+            known = ", ".join(sorted(FrictionLaw.laws))
+            raise InputError(f"unknown friction law {name!r}; known: {known}") from None
 
-    def penetration(self, p_n) -> jax.Array: ...
+    @abc.abstractmethod
+    def normal_force(self, g, lambda_n=0.0) -> jax.Array:
+        """The normal contact force at gap ``g`` (mm), N (>= 0)."""
 
-    def stored_energy(self, p_n, f_t) -> jax.Array: ...
+    @abc.abstractmethod
+    def normal_energy(self, g, lambda_n=0.0) -> jax.Array:
+        """The normal part's energy at gap ``g`` (mm), mJ; ``d/dg = -normal_force``."""
+
+    @abc.abstractmethod
+    def limit(self, p_n) -> jax.Array:
+        """The friction limit at normal force ``p_n`` (N), N."""
+
+    @abc.abstractmethod
+    def penetration(self, p_n) -> jax.Array:
+        """The penetration at which the normal force is ``p_n`` (N), mm."""
+
+    @abc.abstractmethod
+    def stored_energy(self, p_n, f_t) -> jax.Array:
+        """The elastic energy the regularisation holds at normal force ``p_n`` and
+        tangential resistance ``f_t`` (N), mJ."""
+
+    def step(self, g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep:
+        """:func:`return_map` with this law: the step's normal force, resistance, new
+        anchor, status, slip, dissipation and stored energy."""
+        return return_map(g, s, anchor, self, lambda_n, mode)
+
+    def forces(self, g, s, anchor, lambda_n=0.0, mode=None) -> tuple[jax.Array, jax.Array]:
+        """:func:`generalized_forces` with this law: ``(dPhi/dg, dPhi/ds) = (-p_N, f_t)``."""
+        return generalized_forces(g, s, anchor, self, lambda_n, mode)
+
+    def potential(self, g, s, anchor, lambda_n=0.0) -> jax.Array:
+        """:func:`incremental_potential` with this law, mJ (summed over points)."""
+        return incremental_potential(g, s, anchor, self, lambda_n)
 
 
 @pytree()
-class CoulombLaw:
+class CoulombLaw(FrictionLaw, law="coulomb"):
     """Coulomb friction with penalty regularisation: the :class:`FrictionLaw` of the
     crawler's contact terms.
 
@@ -128,17 +174,17 @@ class CoulombLaw:
     k_n: jax.Array
     k_t: jax.Array
 
-    def step(self, g, s, anchor, lambda_n=0.0, mode=None) -> CoulombStep:
-        """:func:`return_map` with this law."""
-        return return_map(g, s, anchor, self, lambda_n, mode)
+    def normal_force(self, g, lambda_n=0.0) -> jax.Array:
+        """The penalty's p_N = max(lambda_n - k_N g, 0), N."""
+        return normal_force(g, self, lambda_n)
 
-    def forces(self, g, s, anchor, lambda_n=0.0, mode=None) -> tuple[jax.Array, jax.Array]:
-        """:func:`generalized_forces` with this law."""
-        return generalized_forces(g, s, anchor, self, lambda_n, mode)
+    def normal_energy(self, g, lambda_n=0.0) -> jax.Array:
+        """The penalty's max(lambda_n - k_N g, 0)^2 / (2 k_N), mJ."""
+        return normal_energy(g, self, lambda_n)
 
-    def potential(self, g, s, anchor, lambda_n=0.0) -> jax.Array:
-        """:func:`incremental_potential` with this law."""
-        return incremental_potential(g, s, anchor, self, lambda_n)
+    def limit(self, p_n) -> jax.Array:
+        """Coulomb's mu p_N, N."""
+        return self.mu * p_n
 
     def penetration(self, p_n) -> jax.Array:
         """The penalty's penetration at normal force ``p_n``: p_N / k_N, mm."""
@@ -167,9 +213,10 @@ class CoulombLaw:
         load: float = PAPER_TIP_LOAD,
         design_penetration: float = 1e-3,
         max_stick_drift: float = 1e-4,
-        **deprecated: float,
+        **options: float,
     ) -> CoulombLaw:
-        """Penalties sized for a reference normal load.
+        """Penalties sized for a reference normal load (``options``: the law's own
+        parameters, :meth:`at_load`).
 
         Args:
             mu: friction coefficient, dimensionless.
@@ -186,15 +233,13 @@ class CoulombLaw:
         ``k_t = max(mu, 0.01) * load / max_stick_drift`` (N/mm); the floor keeps ``k_t``
         positive and meaningful for frictionless contact.
         """
-        if "max_penetration" in deprecated:
+        if "max_penetration" in options:
             warnings.warn(
                 "for_reference_load(max_penetration=...) is deprecated: use design_penetration",
                 DeprecationWarning,
                 stacklevel=2,
             )
-            design_penetration = deprecated.pop("max_penetration")
-        if deprecated:
-            raise TypeError(f"for_reference_load got unexpected keywords {sorted(deprecated)}")
+            design_penetration = options.pop("max_penetration")
         for name, v in (
             ("load", load),
             ("design_penetration", design_penetration),
@@ -206,6 +251,14 @@ class CoulombLaw:
             raise InputError(f"friction coefficient mu must be finite and >= 0, got {mu!r}")
         k_n = load / design_penetration
         k_t = max(mu, 0.01) * load / max_stick_drift
+        return cls.at_load(mu, k_n, k_t, load, **options)
+
+    @classmethod
+    def at_load(cls, mu: float, k_n: float, k_t: float, load: float, **options) -> CoulombLaw:
+        """The law with these penalties (N/mm) sized at the reference ``load`` (N), which
+        Coulomb's law does not keep; TypeError for an option it does not have."""
+        if options:
+            raise TypeError(f"for_reference_load got unexpected keywords {sorted(options)}")
         return cls(mu=mu, k_n=k_n, k_t=k_t)
 
 
@@ -268,7 +321,7 @@ def return_map(
     g: jax.Array,
     s: jax.Array,
     anchor: jax.Array,
-    law: CoulombLaw,
+    law: FrictionLaw,
     lambda_n: jax.Array = 0.0,
     mode: jax.Array | None = None,
 ) -> CoulombStep:
@@ -278,7 +331,7 @@ def return_map(
         g: gap at the end of the step, mm.
         s: tangential coordinate at the end of the step, mm.
         anchor: stick anchor from the previous step, mm.
-        law: the :class:`CoulombLaw`.
+        law: the :class:`FrictionLaw` (its normal force, limit and ``k_t``).
         lambda_n: augmented-Lagrangian normal multiplier, N (0 for pure penalty).
         mode: optional frozen status per point (int): where it is STICK (SLIP) a closed
             point takes the stick (slip) branch whatever its trial force; elsewhere
@@ -289,8 +342,8 @@ def return_map(
     An open contact (p_N = 0) moves its anchor to ``s``, so a later touchdown starts in
     stick at the point of the last open step.
     """
-    p_n = normal_force(g, law, lambda_n)
-    limit = law.mu * p_n
+    p_n = law.normal_force(g, lambda_n)
+    limit = law.limit(p_n)
     delta = s - anchor
     f_trial = law.k_t * delta
     # An open point never sticks: with a zero limit and the anchor at s (delta = 0, as at
@@ -306,7 +359,7 @@ def return_map(
     new_anchor = jnp.where(is_open, s, new_anchor)
     slip = jnp.where(is_open, 0.0, jnp.abs(new_anchor - anchor))
     state = jnp.where(is_open, OPEN, jnp.where(sticks, STICK, SLIP))
-    stored = normal_energy(g, law, lambda_n) + 0.5 * f_t**2 / law.k_t
+    stored = law.normal_energy(g, lambda_n) + 0.5 * f_t**2 / law.k_t
     return CoulombStep(
         p_n=p_n,
         f_t=f_t,
@@ -322,7 +375,7 @@ def incremental_potential(
     g: jax.Array,
     s: jax.Array,
     anchor: jax.Array,
-    law: CoulombLaw,
+    law: FrictionLaw,
     lambda_n: jax.Array = 0.0,
 ) -> jax.Array:
     """Incremental potential of one step ``W_N(g) + psi(s - a; mu p_N)``, mJ (summed).
@@ -334,16 +387,16 @@ def incremental_potential(
     the ``mu k_n`` normal-to-tangential coupling, see :func:`generalized_forces`).
     Returns the sum over contact points so that gradients act per point.
     """
-    p_n = jax.lax.stop_gradient(normal_force(g, law, lambda_n))
-    psi = friction_potential(s - anchor, law.mu * p_n, law.k_t)
-    return jnp.sum(normal_energy(g, law, lambda_n) + psi)
+    p_n = jax.lax.stop_gradient(law.normal_force(g, lambda_n))
+    psi = friction_potential(s - anchor, law.limit(p_n), law.k_t)
+    return jnp.sum(law.normal_energy(g, lambda_n) + psi)
 
 
 def generalized_forces(
     g: jax.Array,
     s: jax.Array,
     anchor: jax.Array,
-    law: CoulombLaw,
+    law: FrictionLaw,
     lambda_n: jax.Array = 0.0,
     mode: jax.Array | None = None,
 ) -> tuple[jax.Array, jax.Array]:

@@ -20,6 +20,7 @@ with an assumed pitch of 2 mm (the paper does not give the spacing).
 from __future__ import annotations
 
 import abc
+from typing import Any, ClassVar
 
 import jax
 import jax.numpy as jnp
@@ -28,6 +29,26 @@ import numpy as np
 from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
 from bristlecrawler.contact.profile import PeriodicProfile, check_vertices, convex_corners
 from bristlecrawler.errors import InputError
+from bristlecrawler.fe.options import REQUIRED, setting
+
+#: Largest length anywhere in a design, mm (10 m): the FE model's coordinates stay far
+#: from round-off trouble, and any real crawler fits.
+MAX_LENGTH = 1e4
+
+
+def _level(default: Any, doc: str) -> Any:
+    """A level or a position along x, mm: any value within +-MAX_LENGTH."""
+    return setting(default, doc, ge=-MAX_LENGTH, le=MAX_LENGTH)
+
+
+def _size(doc: str) -> Any:
+    """A positive size with no default, mm."""
+    return setting(REQUIRED, doc, gt=0.0, le=MAX_LENGTH)
+
+
+def _radius(doc: str) -> Any:
+    """A fillet radius, mm: 0 keeps the corner sharp."""
+    return setting(0.0, doc, ge=0.0, le=MAX_LENGTH)
 
 
 def _require(ok: np.ndarray | bool, message: str) -> None:
@@ -48,8 +69,22 @@ class Substrate(abc.ABC):
     numbers, checked in ``__post_init__`` where they are concrete, with one hook:
     :meth:`profile`, its boundary over one period as a :class:`PeriodicProfile` built with
     traceable JAX operations. :attr:`period` and :attr:`has_corners` follow from it.
-    Adding a substrate is one class here (and, to name it in a scenario, its settings
-    class in :mod:`bristlecrawler.scenario.substrate`)."""
+    Its fields are :func:`~bristlecrawler.fe.options.setting` declarations (meaning, unit,
+    range), and the class is registered under its scenario ``kind``
+    (``class Waves(Substrate, kind="waves")``): the scenario's ``[substrate]`` table of
+    that kind is generated from the declarations, and the rules between the fields are
+    the constructor's. Adding a substrate is one class here."""
+
+    #: Registered substrates by scenario kind, in the order they were declared.
+    kinds: ClassVar[dict[str, type[Substrate]]] = {}
+    #: The substrate's name in a scenario (``substrate.kind``).
+    kind: ClassVar[str] = ""
+
+    def __init_subclass__(cls, kind: str | None = None, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        if kind is not None:
+            cls.kind = kind
+            Substrate.kinds[kind] = cls
 
     @abc.abstractmethod
     def profile(self) -> PeriodicProfile:
@@ -69,14 +104,14 @@ class Substrate(abc.ABC):
 
 
 @pytree()
-class Flat(Substrate):
-    """Flat rigid plane y = height.
+class Flat(Substrate, kind="flat"):
+    """A flat plane, y = height.
 
     Attributes:
         height: level of the surface, mm.
     """
 
-    height: jax.Array = 0.0
+    height: jax.Array = _level(0.0, "surface level, mm")
 
     @property
     def has_corners(self) -> bool:
@@ -96,8 +131,8 @@ class Flat(Substrate):
 
 
 @pytree()
-class Grooves(Substrate):
-    """Evenly spaced rectangular grooves cut into a flat land at y = top.
+class Grooves(Substrate, kind="grooves"):
+    """Rectangular grooves (the paper's substrate), evenly spaced in a flat land at y = top.
 
     Groove k spans ``phase + k pitch <= x <= phase + k pitch + width`` with its bottom at
     ``y = top - depth``. The optional fillets round the corners with circular arcs:
@@ -115,13 +150,13 @@ class Grooves(Substrate):
         fillet_bottom: radius of the concave bottom corners, mm; <= width/2.
     """
 
-    width: jax.Array
-    depth: jax.Array
-    pitch: jax.Array
-    phase: jax.Array = 0.0
-    top: jax.Array = 0.0
-    fillet_top: jax.Array = 0.0
-    fillet_bottom: jax.Array = 0.0
+    width: jax.Array = _size("groove width, mm")
+    depth: jax.Array = _size("groove depth, mm")
+    pitch: jax.Array = _size("groove spacing, mm")
+    phase: jax.Array = _level(0.0, "x of a groove's left wall, mm")
+    top: jax.Array = _level(0.0, "land level, mm")
+    fillet_top: jax.Array = _radius("radius of the convex land corners, mm")
+    fillet_bottom: jax.Array = _radius("radius of the concave bottom corners, mm")
 
     def __post_init__(self) -> None:
         names = ("width", "depth", "pitch", "phase", "top", "fillet_top", "fillet_bottom")
@@ -161,8 +196,8 @@ class Grooves(Substrate):
 
 
 @pytree()
-class Sawtooth(Substrate):
-    """Asymmetric teeth for directional substrates.
+class Sawtooth(Substrate, kind="sawtooth"):
+    """Asymmetric teeth, for directional substrates.
 
     From a valley at ``x = phase`` (y = base) the profile rises linearly to the crest
     (y = base + height) over ``rise_fraction * pitch`` and falls back linearly over the rest
@@ -176,11 +211,11 @@ class Sawtooth(Substrate):
         base: level of the valleys, mm.
     """
 
-    pitch: jax.Array
-    height: jax.Array
-    rise_fraction: jax.Array = 0.8
-    phase: jax.Array = 0.0
-    base: jax.Array = 0.0
+    pitch: jax.Array = _size("tooth spacing, mm")
+    height: jax.Array = _size("tooth height, mm")
+    rise_fraction: jax.Array = setting(0.8, "fraction of the pitch rising, -", ge=0.0, le=1.0)
+    phase: jax.Array = _level(0.0, "x of a valley, mm")
+    base: jax.Array = _level(0.0, "valley level, mm")
 
     def __post_init__(self) -> None:
         names = ("pitch", "height", "rise_fraction", "phase", "base")
@@ -200,8 +235,8 @@ class Sawtooth(Substrate):
 
 
 @pytree()
-class Polyline(Substrate):
-    """Any periodic piecewise-linear profile given by its points over one period.
+class Polyline(Substrate, kind="polyline"):
+    """A periodic polyline, given by its points over one period.
 
     Attributes:
         points: (n + 1, 2) points, mm. The first and last have the same y and their x differ
@@ -209,12 +244,16 @@ class Polyline(Substrate):
             must not fold back on itself. Corners are sharp.
     """
 
-    points: jax.Array
+    points: jax.Array = setting(REQUIRED, "[[x, y], ...] over exactly one period, mm")
 
     def __post_init__(self) -> None:
         pts = as_float_leaf(self, "points")
         if is_concrete(pts):
             check_vertices(np.asarray(pts), "points")
+            far = np.abs(np.asarray(pts)) > MAX_LENGTH
+            if np.any(far):
+                v = np.asarray(pts)[far][0]
+                raise InputError(f"points must be within +-{MAX_LENGTH:g} mm, got {v:g}")
 
     def profile(self) -> PeriodicProfile:
         pts = self.points

@@ -47,6 +47,11 @@ def bristled_design(spec: CrawlerSpec) -> BristledDesign:
     a = spec.actuation
     if a.gait != "breathing" or a.history is not None:
         raise InputError("the bristled model plays the breathing sin^2 stroke only")
+    if spec.contact.friction != "coulomb":
+        raise InputError(
+            f"the bristled model has Coulomb friction only, not contact.friction = "
+            f"{spec.contact.friction}"
+        )
     names = [f.name for f in dataclasses.fields(TaperedBristle)]
     bristles = tuple(TaperedBristle(**{n: getattr(b, n) for n in names}) for b in spec.bristles)
     x = spec.positions()

@@ -21,7 +21,7 @@ import numpy as np
 
 from bristlecrawler import fe
 from bristlecrawler.contact.corner import FaceCornerContact, beam_outline
-from bristlecrawler.contact.coulomb import CoulombLaw
+from bristlecrawler.contact.coulomb import FrictionLaw
 from bristlecrawler.contact.term import SubstrateContact
 from bristlecrawler.crawler.actuation import DelayedSin2, SampledStretch
 from bristlecrawler.crawler.record import observer
@@ -191,11 +191,13 @@ def _contact_points(spec: CrawlerSpec, chains):
 
 
 def _friction_law(spec: CrawlerSpec):
-    """Penalties sized for the weight on one bristle (or a given peak load): penetration
-    below 1 micrometre and stick drift below ``contact.stick_drift`` at that load."""
+    """The scenario's friction law (``contact.friction``) with penalties sized for the
+    weight on one bristle (or a given peak load): penetration below 1 micrometre and stick
+    drift below ``contact.stick_drift`` at that load (the power law's reference load)."""
     c = spec.contact
     load = c.penalty_load or weight_share(spec)
-    return CoulombLaw.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift)
+    law = FrictionLaw.of(c.friction)
+    return law.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift, **c.law_options())
 
 
 def add_contact(s, spec: CrawlerSpec, chains):

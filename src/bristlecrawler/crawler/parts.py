@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, TypeAlias
 
 import numpy as np
 
+from bristlecrawler.contact.coulomb import FrictionLaw
+from bristlecrawler.contact.power_law import EXPONENT_RANGE, HERTZ_EXPONENT
+from bristlecrawler.contact.substrates import MAX_LENGTH
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import TaperedRect
 from bristlecrawler.fe.options import Settings, renamed, setting
@@ -21,12 +24,11 @@ from bristlecrawler.fe.options import Settings, renamed, setting
 #: Largest inclination from the vertical a bristle may have, degrees.
 ALPHA_LIMIT_DEG = 80.0
 
-#: Largest length anywhere in a design, mm (10 m): the FE model's coordinates stay far
-#: from round-off trouble, and any real crawler fits.
-MAX_LENGTH = 1e4
 
 #: Largest friction coefficient a design may give: far above any measured pair.
 MAX_MU = 10.0
+#: The friction laws a scenario can name (``contact.friction``): the registered ones.
+FrictionName: TypeAlias = Literal[tuple(FrictionLaw.laws)]  # type: ignore[valid-type]
 
 #: Most time steps a stroke may ask for (at least its duration / solver.dt_max): the
 #: paper run takes about 2,400.
@@ -157,9 +159,25 @@ class Contact(Settings):
 
     mu: float = setting(
         0.65,
-        "Coulomb friction coefficient bristle/substrate, dimensionless",
+        "friction coefficient bristle/substrate (with the power law: at the penalty "
+        "load), dimensionless",
         ge=0.0,
         le=MAX_MU,
+    )
+    # The alias is a Literal of words, as immutable as the other settings' defaults.
+    friction: FrictionName = setting(  # noqa: RUF009
+        "coulomb",
+        "friction law: coulomb (F = mu p_N) or power (F = mu L (p_N / L)^m, L the "
+        "penalty load; rubber-like contact)",
+        structural=True,
+    )
+    friction_exponent: float | None = setting(
+        None,
+        "the power law's exponent m, dimensionless; null: 2/3 (a Hertzian contact). "
+        "Only with friction = power",
+        ge=EXPONENT_RANGE[0],
+        le=EXPONENT_RANGE[1],
+        none=True,
     )
     nodes: Literal["tip", "all"] = setting(
         "all",
@@ -230,6 +248,21 @@ class Contact(Settings):
 
     def check(self, prefix: str = "contact.") -> None:
         super().check(prefix)
+
+    def rules(self, prefix: str = "contact.") -> None:
+        if self.friction_exponent is not None and self.friction != "power":
+            raise InputError(
+                f"{prefix}friction_exponent is the power law's: set {prefix}friction = "
+                f'"power" or leave it out (the {self.friction} law has none)'
+            )
+
+    def law_options(self) -> dict[str, float]:
+        """The keywords of the friction law's ``for_reference_load`` beyond mu, load and
+        stick drift."""
+        if self.friction == "power":
+            m = HERTZ_EXPONENT if self.friction_exponent is None else self.friction_exponent
+            return {"exponent": m}
+        return {}
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ from bristlecrawler.crawler.model import bristle_ends, weight_share
 from bristlecrawler.crawler.spec import Bristle, CrawlerSpec
 from bristlecrawler.errors import InputError
 from bristlecrawler.export.deck import Deck
-from bristlecrawler.export.drag_deck import DeckInfo
+from bristlecrawler.export.drag_deck import DeckInfo, coulomb_mu
 from bristlecrawler.export.geometry import outline
 
 #: Samples of the sin^2 stroke per period in its amplitude table.
@@ -116,12 +116,13 @@ def num(v: float) -> str:
 
 
 def contact(d: Deck, spec: CrawlerSpec, slave_sets: list[str]) -> None:
+    mu = coulomb_mu(spec)
     d.keyword("SURFACE", type="NODE", name="BRISTLES")
     for s in slave_sets:
         d.data(s)
     d.keyword("SURFACE INTERACTION", name="BRISTLE_SUBSTRATE")
     d.keyword("FRICTION")
-    d.data(spec.contact.mu)
+    d.data(mu)
     d.keyword("CONTACT PAIR", interaction="BRISTLE_SUBSTRATE")
     d.data("BRISTLES", "SUBSTRATE")
 

@@ -249,17 +249,29 @@ def _materials(d: Deck, b, thick: float, substrate: bool = True) -> None:
     d.data(thick)
 
 
+def coulomb_mu(spec: CrawlerSpec) -> float:
+    """The spec's Coulomb coefficient, which ``*FRICTION`` takes; InputError for another
+    friction law (the decks have no counterpart of it)."""
+    if spec.contact.friction != "coulomb":
+        raise InputError(
+            f"the decks write Coulomb friction (*FRICTION); contact.friction = "
+            f"{spec.contact.friction} has no counterpart there"
+        )
+    return spec.contact.mu
+
+
 def _contact_definition(d: Deck, spec: CrawlerSpec, load: float, area: float) -> None:
     """Penalty contact sized as the FE model's: 1e-3 mm of penetration and the stick
     drift at the reference load, spread over ``area`` (mm^2), the tip's end face."""
     c = spec.contact
+    mu = coulomb_mu(spec)
     ref = c.penalty_load or load
     d.keyword("SURFACE INTERACTION", name="BRISTLE_SUBSTRATE")
     d.keyword("SURFACE BEHAVIOR", **{"pressure-overclosure": "LINEAR"})
     d.data(ref / (PENETRATION0 * area), 0.0, 0.0)
-    if c.mu > 0:
+    if mu > 0:
         d.keyword("FRICTION")
-        d.data(c.mu, c.mu * ref / (c.stick_drift * area))
+        d.data(mu, mu * ref / (c.stick_drift * area))
     d.keyword("CONTACT PAIR", interaction="BRISTLE_SUBSTRATE", type="SURFACE TO SURFACE")
     d.data("BRISTLE_TIP", "SUBSTRATE_SURFACE")
 

@@ -17,20 +17,7 @@ from typing import Any, Literal
 from pydantic import BaseModel
 
 from bristlecrawler.scenario.schema import Scenario
-from bristlecrawler.scenario.substrate import (
-    FlatConfig,
-    GroovesConfig,
-    PolylineConfig,
-    SawtoothConfig,
-)
-
-#: Substrate kinds and their tables, in the order the reference lists them.
-SUBSTRATE_KINDS: dict[str, type[BaseModel]] = {
-    "grooves": GroovesConfig,
-    "flat": FlatConfig,
-    "sawtooth": SawtoothConfig,
-    "polyline": PolylineConfig,
-}
+from bristlecrawler.scenario.substrate import SUBSTRATE_KINDS
 
 _UNITS = (
     "mm/s^2",

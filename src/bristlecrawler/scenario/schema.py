@@ -37,7 +37,7 @@ from bristlecrawler.scenario.strict import (
     pydantic_field,
     section_of,
 )
-from bristlecrawler.scenario.substrate import GroovesConfig, SubstrateConfig
+from bristlecrawler.scenario.substrate import SUBSTRATE_KINDS, SubstrateConfig
 
 __all__ = [
     "MAX_LENGTH",
@@ -163,7 +163,9 @@ class Scenario(_Section):
     description: str = Field("", description="one line on what the scenario is")
     body: BodyConfig = BodyConfig()
     bristle: BristleConfig = BristleConfig()
-    substrate: SubstrateConfig = GroovesConfig(kind="grooves", width=1.0, depth=0.25, pitch=2.0)
+    substrate: SubstrateConfig = SUBSTRATE_KINDS["grooves"](
+        kind="grooves", width=1.0, depth=0.25, pitch=2.0
+    )
     contact: ContactConfig = ContactConfig()
     damping: DampingConfig = DampingConfig()
     actuation: ActuationConfig = ActuationConfig()

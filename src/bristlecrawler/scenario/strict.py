@@ -71,16 +71,19 @@ def section_of(
     validators: dict[str, Any] | None = None,
     name: str | None = None,
     prefix: str = "",
+    types: dict[str, Any] | None = None,
 ) -> type[BaseModel]:
     """The scenario table of an options dataclass whose fields are declared with
     :func:`fe.options.setting`: one key per setting (but ``exclude``), of the setting's
     name, type and default, its meaning as the description and its range as pydantic
     bounds; ``extra`` (name -> (type, declared setting)) adds the table's own keys in
-    front (a scenario's ``bristle.count``). After the fields (their ranges checked by
+    front (a scenario's ``bristle.count``); ``types`` (name -> type) gives a key the type
+    its table takes where the dataclass's annotation is not it (a substrate's array
+    leaves, one number in a table). After the fields (their ranges checked by
     pydantic), the table's ``rules(table)`` if given, else the dataclass's own
     ``rules(prefix)`` (a :class:`fe.options.Settings`: the rules between settings), so
     each rule has one home and runs once."""
-    hints = typing.get_type_hints(settings)
+    hints = typing.get_type_hints(settings) | (types or {})
     fields: dict[str, Any] = {
         key: (kind, pydantic_field(declared, kind))
         for key, (kind, declared) in (extra or {}).items()

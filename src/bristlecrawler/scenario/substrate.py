@@ -1,4 +1,4 @@
-"""TOML form of a substrate: each kind's settings declared once, its table generated.
+"""TOML form of a substrate: each kind's table generated from the substrate's own fields.
 
 A ``[substrate]`` table names its ``kind`` and the settings of that kind, for example::
 
@@ -10,141 +10,50 @@ A ``[substrate]`` table names its ``kind`` and the settings of that kind, for ex
 
 The friction coefficient is not a property of the shape: it is ``[contact] mu``.
 
-Each kind is a frozen dataclass of settings (:func:`~bristlecrawler.fe.options.setting`:
-meaning, unit, range) whose ``build()`` returns the substrate of
-:mod:`bristlecrawler.contact.substrates`; the geometric rules between the settings
-(a groove narrower than its pitch, fillets that fit) are the substrate's own, checked
-when it is built. :func:`parse_substrate` turns a table (a mapping) into the kind's
-generated table, whose ``build()`` returns that substrate; every failure is an
+Each kind is a substrate class of :mod:`bristlecrawler.contact.substrates`, registered
+under its kind (:attr:`~bristlecrawler.contact.substrates.Substrate.kinds`), whose fields
+are :func:`~bristlecrawler.fe.options.setting` declarations (meaning, unit, range): the
+table of each kind is generated from them, one number per field (a list of ``[x, y]``
+points for a polyline), and the geometric rules between the fields (a groove narrower than
+its pitch, fillets that fit) are the substrate's constructor's, run once as the table is
+checked. :func:`parse_substrate` turns a table (a mapping) into the kind's table, whose
+``build()`` returns the substrate; every failure is an
 :class:`~bristlecrawler.errors.InputError` with one line naming the offending key.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal, Union
 
 from pydantic import Field, PrivateAttr, TypeAdapter, ValidationError, field_validator
 
-from bristlecrawler.contact.substrates import Flat, Grooves, Polyline, Sawtooth
-from bristlecrawler.crawler.parts import MAX_LENGTH
+from bristlecrawler.contact.substrates import Polyline, Substrate
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe.options import REQUIRED, Settings, setting
+from bristlecrawler.fe.options import REQUIRED, setting, settings_of
 from bristlecrawler.scenario.strict import StrictSection, bound_message, section_of
 
-
-def _level(default: Any, doc: str) -> Any:
-    """A level or a position along x, mm: any value within +-MAX_LENGTH."""
-    return setting(default, doc, ge=-MAX_LENGTH, le=MAX_LENGTH)
-
-
-def _size(doc: str) -> Any:
-    """A positive size with no default, mm."""
-    return setting(REQUIRED, doc, gt=0.0, le=MAX_LENGTH)
-
-
-class _Kind(Settings):
-    """The settings of one substrate kind (a frozen dataclass of settings)."""
-
-    kind: ClassVar[str]
-    shape: ClassVar[type]
-
-    def build(self):
-        """The substrate (its constructor checks the geometry: one home for those rules)."""
-        return self.shape(**{f.name: getattr(self, f.name) for f in fields(self)})
-
-    def check(self, prefix: str = "substrate.") -> None:
-        super().check(prefix)
-
-    def rules(self, prefix: str = "substrate.") -> Any:
-        """The substrate; InputError for a shape that cannot be built (its own rules)."""
-        return self.build()
-
-
-@dataclass(frozen=True)
-class FlatSettings(_Kind):
-    """A flat plane."""
-
-    kind: ClassVar[str] = "flat"
-    shape: ClassVar[type] = Flat
-
-    height: float = _level(0.0, "surface level, mm")
-
-
-@dataclass(frozen=True)
-class GroovesSettings(_Kind):
-    """Rectangular grooves (the paper's substrate)."""
-
-    kind: ClassVar[str] = "grooves"
-    shape: ClassVar[type] = Grooves
-
-    width: float = _size("groove width, mm")
-    depth: float = _size("groove depth, mm")
-    pitch: float = _size("groove spacing, mm")
-    phase: float = _level(0.0, "x of a groove's left wall, mm")
-    top: float = _level(0.0, "land level, mm")
-    fillet_top: float = setting(0.0, "radius of the convex land corners, mm", ge=0.0, le=MAX_LENGTH)
-    fillet_bottom: float = setting(
-        0.0, "radius of the concave bottom corners, mm", ge=0.0, le=MAX_LENGTH
-    )
-
-
-@dataclass(frozen=True)
-class SawtoothSettings(_Kind):
-    """Asymmetric teeth."""
-
-    kind: ClassVar[str] = "sawtooth"
-    shape: ClassVar[type] = Sawtooth
-
-    pitch: float = _size("tooth spacing, mm")
-    height: float = _size("tooth height, mm")
-    rise_fraction: float = setting(0.8, "fraction of the pitch rising, -", ge=0.0, le=1.0)
-    phase: float = _level(0.0, "x of a valley, mm")
-    base: float = _level(0.0, "valley level, mm")
-
-
-@dataclass(frozen=True)
-class PolylineSettings(_Kind):
-    """Periodic polyline over one period."""
-
-    kind: ClassVar[str] = "polyline"
-    shape: ClassVar[type] = Polyline
-
-    points: tuple[tuple[float, float], ...] = setting(
-        REQUIRED, "[[x, y], ...] over exactly one period, mm"
-    )
-
-    def rules(self, prefix: str = "substrate.") -> Polyline:
-        if len(self.points) < 2:
-            raise InputError(f"{prefix}points needs at least 2 points, got {len(self.points)}")
-        far = [v for p in self.points for v in p if not abs(v) <= MAX_LENGTH]
-        if far:
-            raise InputError(f"{prefix}points must be within +-{MAX_LENGTH:g} mm, got {far[0]}")
-        return self.build()
-
-
-#: The substrate kinds' settings, in the order the scenario reference lists them.
-KINDS: dict[str, type[_Kind]] = {
-    k.kind: k for k in (GroovesSettings, FlatSettings, SawtoothSettings, PolylineSettings)
+#: The substrate kinds, in the order the scenario reference lists them (the paper's
+#: grooves first, then the others as they are declared).
+KINDS: dict[str, type[Substrate]] = {
+    "grooves": Substrate.kinds["grooves"],
+    **{k: c for k, c in Substrate.kinds.items() if k != "grooves"},
 }
+#: What a scenario table gives for a field that is a point list rather than a number.
+_POINTS = tuple[tuple[float, float], ...]
 
 
 class _Table(StrictSection):
     """A substrate table: its kind's settings, checked and built once."""
 
-    #: The settings of the table's kind.
-    kind_settings: ClassVar[type[_Kind]]
+    #: The substrate class of the table's kind.
+    shape: ClassVar[type[Substrate]]
     _built: Any = PrivateAttr(default=None)
 
-    def settings(self) -> _Kind:
-        """The table as its kind's settings."""
-        return self.kind_settings(**self.model_dump(exclude={"kind"}))
-
-    def build(self):
+    def build(self) -> Substrate:
         """The substrate of this table (built once, when the table was checked)."""
         if self._built is None:
-            self._built = self.settings().build()
+            self._built = self.shape(**self.model_dump(exclude={"kind"}))
         return self._built
 
 
@@ -158,46 +67,38 @@ def _pairs(cls, value):
     return value
 
 
-def _table(settings: type[_Kind]) -> type[_Table]:
-    """The ``[substrate]`` table of one kind, generated from its settings."""
-    kind = (Literal[settings.kind], setting(REQUIRED, "the substrate's kind"))
+def _table(shape: type[Substrate]) -> type[_Table]:
+    """The ``[substrate]`` table of one kind, generated from its substrate's fields."""
+    kind = (Literal[shape.kind], setting(REQUIRED, "the substrate's kind"))
+    types = {f.name: _POINTS if shape is Polyline else float for f in settings_of(shape)}
 
     def rules(table: _Table) -> None:
         # The ranges are the table's own; the rules between settings are the shape's,
         # checked as it is built, once.
-        table._built = table.settings().rules()
+        table.build()
 
     extra = {}
-    if settings is PolylineSettings:
+    if shape is Polyline:
         extra["_points"] = field_validator("points", mode="before")(_pairs)
     model = section_of(
-        settings,
+        shape,
         _Table,
-        settings.__doc__,
+        shape.__doc__.split("\n\n")[0],
         extra={"kind": kind},
         rules=rules,
         validators=extra,
-        name=settings.__name__.replace("Settings", "Config"),
+        name=f"{shape.__name__}Config",
+        types=types,
     )
-    model.kind_settings = settings
+    model.shape = shape
     return model
 
 
-GroovesConfig = _table(GroovesSettings)
-FlatConfig = _table(FlatSettings)
-SawtoothConfig = _table(SawtoothSettings)
-PolylineConfig = _table(PolylineSettings)
-
 #: Substrate kinds and their tables, in the order the reference lists them.
-SUBSTRATE_KINDS: dict[str, type[StrictSection]] = {
-    "grooves": GroovesConfig,
-    "flat": FlatConfig,
-    "sawtooth": SawtoothConfig,
-    "polyline": PolylineConfig,
-}
+SUBSTRATE_KINDS: dict[str, type[StrictSection]] = {k: _table(c) for k, c in KINDS.items()}
 
 SubstrateConfig = Annotated[
-    FlatConfig | GroovesConfig | SawtoothConfig | PolylineConfig,  # type: ignore[valid-type]
+    Union[tuple(SUBSTRATE_KINDS.values())],  # type: ignore[valid-type]  # noqa: UP007
     Field(discriminator="kind"),
 ]
 _ADAPTER: TypeAdapter[Any] = TypeAdapter(SubstrateConfig)
