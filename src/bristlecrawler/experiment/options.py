@@ -39,7 +39,9 @@ class SynthesisOptions(Settings):
     with the sensor's artefacts (:class:`SensorModel`)."""
 
     actuator: Literal["sma", "sin2"] = setting(
-        "sma", "the closed-loop SMA actuator model, or the prescribed sin^2 stroke"
+        "sma",
+        "actuator model; sma: the closed-loop shape-memory-alloy model, sin2: the prescribed "
+        "sin^2 stroke",
     )
     cycles: int = setting(PAPER_CYCLES, "number of cycles", ge=1, le=1000)
     fp: float = setting(0.456, "F_p, resistance along the grain, N", ge=1e-6, le=1e3)

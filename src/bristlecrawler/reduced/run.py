@@ -59,7 +59,8 @@ class ReducedRun(Settings):
     period: float = setting(PAPER_PERIOD, "stroke period T, s", ge=1e-6, le=1e7)
     bristles: int = setting(2, "number of bristles N", ge=2, le=10_000)
     gait: Literal["breathing", "peristaltic"] = setting(
-        "breathing", "every segment at once (breathing) or one after the other (peristaltic)"
+        "breathing",
+        "gait of the segments; breathing: all at once, peristaltic: one after the other",
     )
     lag: float | None = setting(
         None,
@@ -69,7 +70,9 @@ class ReducedRun(Settings):
         none=True,
     )
     stroke: Literal["sin2", "triangle"] = setting(
-        "sin2", "shape of the analytic stroke: s_max sin^2(pi t / period), or a triangle"
+        "sin2",
+        "shape of the analytic stroke; sin2: s_max sin^2(pi t / period), triangle: a "
+        "triangle wave of the same period",
     )
     actuator: Literal["sin2", "sma"] = setting(
         "sin2",
