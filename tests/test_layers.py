@@ -38,8 +38,9 @@ PACKAGE = "bristlecrawler"
 #: ``__version__``).
 TOP = "__init__"
 #: The bottom layers every layer may import: the errors, the state codes, float64, file
-#: handling, and the typed results every model gives.
-BASE = {"errors", "states", "_x64", "_files", "results"}
+#: handling, the typed results every model gives, and the declaration of settings (so a
+#: model below the FE core, the reduced one, declares its settings as the FE core does).
+BASE = {"errors", "states", "_x64", "_files", "results", "settings"}
 EVERYTHING_BELOW_THE_CLI = (
     BASE
     | {"_pytree", "fe", "contact", "reduced", "actuators", TOP}
@@ -54,6 +55,7 @@ ALLOWED = {
     "_x64": set(),
     "_files": set(),
     "results": {"errors"},
+    "settings": {"errors"},
     "_pytree": {"_x64"},
     TOP: {"errors", "reduced"},
     "fe": BASE | {"_pytree"},
@@ -67,7 +69,9 @@ ALLOWED = {
     "export": BASE | {"crawler", "contact"},
     # Run metadata records the package version.
     "io": BASE | {"reduced", TOP},
-    "scenario": BASE | {"fe", "contact", "reduced", "actuators", "crawler", "io"},
+    # The edge validates the input of every model: the experiment commands' options are
+    # generated from the experiment layer's declarations, as a scenario's from the crawler's.
+    "scenario": BASE | {"fe", "contact", "reduced", "actuators", "crawler", "experiment", "io"},
     "viz": BASE | {"reduced", "crawler", "experiment", "io"},
     # Design studies sweep the models the scenarios describe; they run below the jobs.
     "studies": BASE | {"fe", "reduced", "crawler", "scenario", "io", "viz", TOP},
@@ -88,6 +92,7 @@ PRIVATE_EXCEPTIONS: dict[tuple[str, str, str], str] = {}
 
 #: Layer -> third-party modules that importing it must not load.
 NOT_LOADED = {
+    "bristlecrawler.settings": ("jax", "pydantic", "matplotlib", "xarray"),
     "bristlecrawler.results": ("jax", "pydantic", "matplotlib", "xarray"),
     "bristlecrawler.fe": ("pydantic", "matplotlib", "xarray", "rich", "typer"),
     "bristlecrawler.contact": ("pydantic", "matplotlib", "xarray", "rich", "typer"),

@@ -84,3 +84,23 @@ def test_outputs_reference_lists_every_variable_of_reduced_nc(site):
     text = (ROOT / "docs" / "reference" / "outputs.md").read_text()
     for name in ds.coords:
         assert f"`{name}`" in text, name
+
+
+def test_outputs_reference_lists_every_declared_variable_of_drag_nc(site):
+    from bristlecrawler.crawler.drag_analysis import DRAG_VARIABLES
+
+    html = (site / "reference" / "outputs" / "index.html").read_text()
+    assert "drag-variables" not in html
+    for v in DRAG_VARIABLES:
+        assert f"<td><code>{v.name}</code></td>" in html, v.name
+
+
+def test_cli_reference_lists_every_declared_option_of_the_generated_tables(site):
+    from bristlecrawler.scenario.keys import COMMAND_TABLES, command_table
+    from bristlecrawler.scenario.strict import option_names
+
+    html = (site / "reference" / "cli" / "index.html").read_text()
+    assert "<!-- options:" not in html
+    for command in COMMAND_TABLES:
+        for flag in option_names(command_table(command)).values():
+            assert f"<td><code>{flag}</code></td>" in html, (command, flag)

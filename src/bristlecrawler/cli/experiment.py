@@ -149,9 +149,8 @@ def synth_cmd(
 ) -> None:
     """Write a synthetic recording made by the reduced model with sensor artefacts."""
     from bristlecrawler.errors import InputError
-    from bristlecrawler.experiment import SensorModel, synthetic_recording, write_csv, write_tdms
+    from bristlecrawler.experiment import SynthesisOptions, write_csv, write_tdms
     from bristlecrawler.io.runs import check_new_file
-    from bristlecrawler.reduced import ReducedCrawler
     from bristlecrawler.scenario.experiment import SynthOptions
     from bristlecrawler.scenario.strict import option_names, parse_model
 
@@ -172,14 +171,7 @@ def synth_cmd(
         option_names(SynthOptions),
     )
     check_new_file(path, replace)
-    crawler = ReducedCrawler.two_bristle(fp=opts.fp, k=opts.k)
-    rec = synthetic_recording(
-        crawler,
-        actuator=opts.actuator,
-        cycles=opts.cycles,
-        sensor=SensorModel(noise_mm=opts.noise, skip_s=opts.skip),
-        seed=opts.seed,
-    )
+    rec = SynthesisOptions(**opts.model_dump()).recording()
     (write_tdms if ext == ".tdms" else write_csv)(rec, path)
     typer.echo(f"wrote {printable(str(path))} ({rec.t.size} samples, {rec.duration:.1f} s)")
 

@@ -27,39 +27,57 @@ from bristlecrawler import fe
 from bristlecrawler.crawler.batch import check_designs, run_rigs
 from bristlecrawler.crawler.drag_analysis import result_of
 from bristlecrawler.crawler.model import add_contact, bristle_ends, weight_share
+from bristlecrawler.crawler.parts import MAX_LENGTH
 from bristlecrawler.crawler.record import state_terms, tip_states
 from bristlecrawler.crawler.runner import Advance, ModalDamping, Settle, SteppedStage, run_stages
 from bristlecrawler.crawler.spec import CrawlerSpec
 from bristlecrawler.errors import InputError
+from bristlecrawler.settings import check_settings, setting
 
 Direction = Literal["along", "against", "cycle"]
 
 
 @dataclass(frozen=True)
 class DragTest:
-    """What a drag test does.
+    """What a drag test does. Each setting is declared once
+    (:func:`~bristlecrawler.settings.setting`), for this object's own check and for
+    ``bristlecrawler drag``'s options."""
 
-    Attributes:
-        direction: "along" the grain (+x), "against" it (-x), or "cycle": ``legs`` legs of
-            ``distance`` each, along, against, along, ...
-        distance: travel of each leg, mm (at least one groove pitch).
-        speed: carriage speed, mm/s (quasi-static: far below pitch times the bristle's
-            first frequency).
-        legs: number of legs of a cycle (>= 2).
-        bristle: which bristle of the design, by index.
-        load: vertical load on the bristle, N; None: its share of the crawler's weight
-            (body and bristles over the number of bristles).
-        resolution: largest carriage travel of one time step, mm (the stick phase before
-            the first slip, F_p/k ~ 0.5 mm for the paper's bristle, then has ~25 samples).
-    """
-
-    direction: Direction = "cycle"
-    distance: float = 20.0
-    speed: float = 2.0
-    legs: int = 2
-    bristle: int = 0
-    load: float | None = None
-    resolution: float = 0.02
+    direction: Direction = setting(  # noqa: RUF009 (a dataclasses.field, as the others)
+        "cycle",
+        "along the grain (+x), against it (-x), or cycle: back and forth, along first, "
+        "legs legs of distance each",
+    )
+    distance: float = setting(
+        20.0,
+        "travel of each leg, mm; at least one groove pitch, at most two of the longest pitches",
+        gt=0,
+        le=2 * MAX_LENGTH,
+    )
+    speed: float = setting(
+        2.0,
+        "carriage speed, mm/s; quasi-static: far below the pitch times the bristle's first "
+        "frequency",
+        ge=1e-4,
+        le=1e3,
+    )
+    legs: int = setting(2, "legs of a cycle", ge=2, le=10_000)
+    bristle: int = setting(0, "which bristle of the design, by index", ge=0)
+    load: float | None = setting(
+        None,
+        "vertical load on the bristle, N; 1e4 N is a tonne's weight; None: its share of the "
+        "crawler's weight (body and bristles over the number of bristles)",
+        gt=0,
+        le=1e4,
+        none=True,
+    )
+    resolution: float = setting(
+        0.02,
+        "largest carriage travel of one time step, mm; the stick phase before the first "
+        "slip, F_p/k ~ 0.5 mm for the paper's bristle, then has ~25 samples",
+        gt=0,
+        le=MAX_LENGTH,
+    )
 
     @property
     def ramp(self) -> float:
@@ -95,29 +113,20 @@ class DragTest:
         return float(self.leg_times()[-1])
 
     def check(self, spec: CrawlerSpec) -> None:
-        if self.direction not in ("along", "against", "cycle"):
-            raise InputError(
-                f"drag direction must be along, against or cycle, got {self.direction!r}"
-            )
-        for name in ("distance", "speed", "resolution"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise InputError(f"drag {name} must be a positive finite number, got {v!r}")
+        """InputError (one line) naming the first setting out of its declared range, or
+        that does not fit the design ``spec``."""
+        check_settings(self, "drag ")
         pitch = spec.substrate.period
         if self.distance < pitch:
             raise InputError(
                 f"drag distance {self.distance:g} mm is shorter than one groove pitch "
                 f"({pitch:g} mm): the sliding means need whole pitches"
             )
-        if not (isinstance(self.legs, int) and self.legs >= 2):
-            raise InputError(f"a drag cycle needs legs >= 2, got {self.legs!r}")
-        if not (isinstance(self.bristle, int) and 0 <= self.bristle < len(spec.bristles)):
+        if self.bristle >= len(spec.bristles):
             raise InputError(
                 f"drag bristle {self.bristle!r} is not one of the design's "
                 f"{len(spec.bristles)} bristles"
             )
-        if self.load is not None and not (math.isfinite(self.load) and self.load > 0):
-            raise InputError(f"drag load must be a positive number of N, got {self.load}")
 
 
 def first_frequency_estimate(spec: CrawlerSpec, index: int = 0) -> float:

@@ -21,6 +21,7 @@ import numpy as np
 from bristlecrawler.crawler.record import energy_series
 from bristlecrawler.results import keys
 from bristlecrawler.results.drag import DragSummary, Sliding
+from bristlecrawler.results.variables import Variable, variables_markdown
 from bristlecrawler.states import ContactState
 
 
@@ -202,32 +203,14 @@ class DragResult:
         return float(np.max(np.abs(r)) / max(float(np.max(np.abs(e["external"]))), 1e-300))
 
     def to_dataset(self, attrs: dict | None = None):
-        """The series as an xarray Dataset (dims time, xy)."""
+        """The series as an xarray Dataset (dims time, xy; cell for the texture law): the
+        variables of :data:`DRAG_VARIABLES`, units and meaning in each one's attrs."""
         import xarray as xr
 
-        flags = np.array([0, 1, 2], np.int8)
+        summary = self.summary()
+        src = _DragSource(self, summary["texture"])
         ds = xr.Dataset(
-            {
-                "carriage_x": ("time", self.x, {"units": "mm", "long_name": "carriage travel"}),
-                "carriage_lift": ("time", self.lift, {"units": "mm", "long_name": "carriage rise"}),
-                "force_x": (
-                    "time",
-                    self.force_x,
-                    {"units": "N", "long_name": "horizontal force of the carriage (+x)"},
-                ),
-                "contact_force": (
-                    ("time", "xy"),
-                    self.contact,
-                    {"units": "N", "long_name": "substrate force on the bristle"},
-                ),
-                "tip_position": (("time", "xy"), self.tip, {"units": "mm"}),
-                "tip_state": (
-                    "time",
-                    self.tip_state.astype(np.int8),
-                    {"flag_values": flags, "flag_meanings": "open stick slip"},
-                ),
-                **{f"energy_{k}": ("time", v, {"units": "mJ"}) for k, v in self.energies.items()},
-            },
+            {v.name: v.variable(src) for v in DRAG_VARIABLES if v.when is None or v.when(src)},
             coords={"time": ("time", self.t, {"units": "s"}), "xy": ["x", "y"]},
             attrs={
                 "model": "bristlecrawler drag test",
@@ -236,13 +219,9 @@ class DragResult:
                 "mu": self.mu,
             },
         )
-        summary = self.summary()
         clean = {k: v for k, v in summary.items() if isinstance(v, int | float)}
         ds.attrs.update(clean | (attrs or {}))
         ds.attrs["legs"] = np.asarray(self.legs, dtype=np.int64).ravel()
-        law = summary["texture"]
-        if law is not None:
-            ds = ds.assign(_texture_variables(law))
         return ds
 
     @classmethod
@@ -276,30 +255,100 @@ class DragResult:
         )
 
 
-def _texture_variables(law: dict) -> dict:
-    """The texture law as Dataset variables over its cells (dim ``cell``)."""
+@dataclass(frozen=True)
+class _DragSource:
+    """What ``drag.nc`` is made of: the result and its texture law (a dict, or None)."""
+
+    r: DragResult
+    law: dict | None
+
+
+def _on_texture(src: _DragSource) -> bool:
+    return src.law is not None
+
+
+def _cell_centres(law: dict) -> np.ndarray:
     n = len(law[keys.FP_N])
-    centre = (np.arange(n) + 0.5) * law["cell_mm"] + law["origin_mm"]
-    fn = np.array([np.inf if v == "inf" else v for v in law[keys.FN_N]], dtype=float)
-    common = {"pitch_mm": law["pitch_mm"], "origin_mm": law["origin_mm"]}
-    return {
-        "texture_position": ("cell", centre, {"units": "mm", "long_name": "cell centre"}),
-        "texture_fp": (
-            "cell",
-            np.asarray(law[keys.FP_N], dtype=float),
-            {"units": "N", "long_name": "resistance along the grain (F_p(x))"} | common,
-        ),
-        "texture_fn": (
-            "cell",
-            fn,
-            {
-                "units": "N",
-                "long_name": "resistance against the grain (F_n(x))",
-                keys.K_N_PER_MM: law[keys.K_N_PER_MM],
-                "tip_offset_mm": law["tip_offset_mm"],
-            },
-        ),
-    }
+    return (np.arange(n) + 0.5) * law["cell_mm"] + law["origin_mm"]
+
+
+def _energy(key: str, description: str) -> Variable:
+    return Variable(f"energy_{key}", ("time",), "mJ", description, lambda s: s.r.energies[key])
+
+
+#: The variables of ``drag.nc``, each declared once: the dataset
+#: (:meth:`DragResult.to_dataset`) and the output reference's table are made from these.
+DRAG_VARIABLES: tuple[Variable, ...] = (
+    Variable("carriage_x", ("time",), "mm", "carriage travel", lambda s: s.r.x),
+    Variable("carriage_lift", ("time",), "mm", "carriage rise", lambda s: s.r.lift),
+    Variable(
+        "force_x",
+        ("time",),
+        "N",
+        "horizontal force of the carriage (+x): what its clamp transmits into the bristle",
+        lambda s: s.r.force_x,
+    ),
+    Variable(
+        "contact_force",
+        ("time", "xy"),
+        "N",
+        "substrate force on the bristle",
+        lambda s: s.r.contact,
+    ),
+    Variable("tip_position", ("time", "xy"), "mm", "the bristle's tip", lambda s: s.r.tip),
+    Variable(
+        "tip_state",
+        ("time",),
+        "",
+        "contact state of the tip",
+        lambda s: s.r.tip_state.astype(np.int8),
+        flags=tuple((int(c), c.name.lower()) for c in ContactState),
+    ),
+    _energy(
+        "elastic", "elastic energy of the bristle and contact penalties, from the first record"
+    ),
+    _energy("kinetic", "kinetic energy, from the first record"),
+    _energy("potential", "gravitational potential energy, from the first record"),
+    _energy("friction", "energy dissipated by friction"),
+    _energy("damping", "energy dissipated by Rayleigh damping"),
+    _energy("external", "work of the carriage"),
+    Variable(
+        "texture_position",
+        ("cell",),
+        "mm",
+        "texture law: centre of each cell of the pitch",
+        lambda s: _cell_centres(s.law),
+        when=_on_texture,
+    ),
+    Variable(
+        "texture_fp",
+        ("cell",),
+        "N",
+        "texture law: resistance along the grain in each cell (F_p(x)); attributes "
+        "pitch_mm, origin_mm",
+        lambda s: np.asarray(s.law[keys.FP_N], dtype=float),
+        when=_on_texture,
+        more=lambda s: {"pitch_mm": s.law["pitch_mm"], "origin_mm": s.law["origin_mm"]},
+    ),
+    Variable(
+        "texture_fn",
+        ("cell",),
+        "N",
+        "texture law: resistance against the grain in each cell (F_n(x), inf at a wall); "
+        "attributes k_N_per_mm, tip_offset_mm",
+        lambda s: np.array([np.inf if v == "inf" else v for v in s.law[keys.FN_N]], float),
+        when=_on_texture,
+        more=lambda s: {
+            keys.K_N_PER_MM: s.law[keys.K_N_PER_MM],
+            "tip_offset_mm": s.law["tip_offset_mm"],
+        },
+    ),
+)
+
+
+def drag_variables_markdown() -> str:
+    """The reference table of ``drag.nc``'s variables."""
+    return variables_markdown(DRAG_VARIABLES)
 
 
 def _mean_over(x, f, lo, hi) -> float:

@@ -9,6 +9,7 @@ import numpy as np
 
 from bristlecrawler.experiment.fit import ReducedFit, fit_reduced
 from bristlecrawler.experiment.gait import Transition, per_cycle_advance, transitions
+from bristlecrawler.experiment.options import AnalysisOptions
 from bristlecrawler.experiment.preprocess import GaitSignals, prepare
 from bristlecrawler.experiment.recording import Recording
 from bristlecrawler.results import keys
@@ -57,7 +58,7 @@ def analyze(
     rec: Recording,
     work_mJ: float | None = None,
     use_force: bool = True,
-    max_gap_s: float = 0.5,
+    max_gap_s: float = AnalysisOptions.max_gap,
     use_measured_shortening: bool = False,
 ) -> Analysis:
     """Clean, segment, detect stick/slip transitions and fit the reduced model."""

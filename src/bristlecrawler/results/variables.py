@@ -1,6 +1,7 @@
 """Declarations of the variables of a result dataset: each one's name, dimensions, unit,
 meaning and how it is computed, spelled once; the dataset and its reference table are
-both made from them (``reduced.nc``: :data:`bristlecrawler.io.netcdf.REDUCED_VARIABLES`)."""
+both made from them (``reduced.nc``: :data:`bristlecrawler.io.netcdf.REDUCED_VARIABLES`;
+``drag.nc``: :data:`bristlecrawler.crawler.drag_analysis.DRAG_VARIABLES`)."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ class Variable:
         value: its values, from what the dataset is made of (the writer's source).
         flags: the meanings of its codes, by value (``flag_values``, ``flag_meanings``).
         when: whether the source has it (None: always).
+        more: more attributes, from the source (a texture law's pitch beside its values).
     """
 
     name: str
@@ -32,6 +34,7 @@ class Variable:
     value: Callable[[Any], Any]
     flags: tuple[tuple[int, str], ...] = ()
     when: Callable[[Any], bool] | None = None
+    more: Callable[[Any], dict[str, Any]] | None = None
 
     def attrs(self) -> dict[str, Any]:
         """The variable's attributes in the dataset."""
@@ -45,7 +48,8 @@ class Variable:
 
     def variable(self, source) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
         """``(dims, values, attrs)``, the form an ``xarray.Dataset`` takes."""
-        return self.dims, self.value(source), self.attrs()
+        more = self.more(source) if self.more is not None else {}
+        return self.dims, self.value(source), self.attrs() | more
 
 
 def variables_markdown(variables: Sequence[Variable]) -> str:

@@ -1,45 +1,36 @@
-"""The drag test's options at the edge: bounds per quantity, and the test's cost."""
+"""The drag test's options at the edge, generated from :class:`~bristlecrawler.crawler.DragTest`'s
+declared settings, and the test's cost."""
 
 from __future__ import annotations
 
-from typing import Literal
-
-from pydantic import Field
-
+from bristlecrawler.crawler.drag import DragTest
 from bristlecrawler.scenario.cost import Estimate, fe_run
-from bristlecrawler.scenario.schema import MAX_LENGTH
-from bristlecrawler.scenario.strict import StrictSection
+from bristlecrawler.scenario.strict import StrictSection, section_of
 
 
-class DragOptions(StrictSection):
-    """What ``bristlecrawler drag`` does (see :class:`bristlecrawler.crawler.DragTest`)."""
+class _DragTable(StrictSection):
+    """The options of ``bristlecrawler drag`` (see :class:`DragTest`)."""
 
-    direction: Literal["along", "against", "cycle"] = Field(
-        "cycle", description="along (+x), against (-x) or cycle (both, back and forth)"
-    )
-    distance: float = Field(
-        20.0, gt=0, le=MAX_LENGTH, allow_inf_nan=False, description="travel of each leg, mm"
-    )
-    speed: float = Field(
-        2.0,
-        ge=1e-4,
-        le=1e3,
-        allow_inf_nan=False,
-        description="carriage speed, mm/s; quasi-static is far below the bound",
-    )
-    legs: int = Field(2, ge=2, le=10_000, description="legs of a cycle")
-    load: float | None = Field(
-        None,
-        gt=0,
-        le=1e4,
-        allow_inf_nan=False,
-        description="vertical load on the bristle, N; 1e4 N is a tonne's weight",
-    )
+    def test(self) -> DragTest:
+        """The drag test these options describe (on the design's first bristle)."""
+        return DragTest(**self.model_dump())
 
-    def test(self):
-        from bristlecrawler.crawler.drag import DragTest
 
-        return DragTest(self.direction, self.distance, self.speed, self.legs, 0, self.load)
+def _no_rules(table) -> None:
+    """The drag test's rules need the design (a leg of at least one pitch, a bristle it
+    has): :meth:`DragTest.check` runs them once the scenario is read."""
+
+
+#: What ``bristlecrawler drag`` does: :class:`DragTest`'s settings but which bristle and
+#: the step's resolution (the command drags the first bristle at the default resolution).
+DragOptions = section_of(
+    DragTest,
+    _DragTable,
+    "What ``bristlecrawler drag`` does (see :class:`bristlecrawler.crawler.DragTest`).",
+    exclude=("bristle", "resolution"),
+    rules=_no_rules,
+    name="DragOptions",
+)
 
 
 def drag_estimate(sc, test) -> Estimate:

@@ -21,6 +21,8 @@ from bristlecrawler.scenario.substrate import SUBSTRATE_KINDS
 
 _UNITS = (
     "mm/s^2",
+    "mm/s",
+    "samples/s",
     "t/mm^3",
     "N/mm",
     "1/s",
@@ -280,3 +282,64 @@ def defaults_unlike_paper(document: dict[str, Any]) -> list[Key]:
         if node is _NO_DEFAULT:
             out.append(key)
     return out
+
+
+#: The commands whose options are tables generated from declared settings: command ->
+#: (module, table, the option a key is spelled as where it is not ``--key-name``).
+COMMAND_TABLES: dict[str, tuple[str, str]] = {
+    "reduced": ("bristlecrawler.scenario.reduced", "ReducedConfig"),
+    "drag": ("bristlecrawler.scenario.drag", "DragOptions"),
+    "analyze": ("bristlecrawler.scenario.experiment", "AnalyzeOptions"),
+    "synth-recording": ("bristlecrawler.scenario.experiment", "SynthOptions"),
+}
+
+_RANGE = (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<="))
+
+
+def command_table(command: str) -> type[BaseModel]:
+    """The option table of ``command`` (see :data:`COMMAND_TABLES`)."""
+    import importlib
+
+    module, name = COMMAND_TABLES[command]
+    return getattr(importlib.import_module(module), name)
+
+
+def _range_text(field: Any) -> str:
+    parts = [
+        f"{op} {getattr(m, key):g}"
+        for m in field.metadata
+        for key, op in _RANGE
+        if getattr(m, key, None) is not None
+    ]
+    return ", ".join(parts)
+
+
+def _default_text(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def options_markdown(command: str) -> str:
+    """The table of a command's options that are declared settings: option, unit,
+    default, range and meaning, from the declarations its option table is generated
+    from."""
+    from bristlecrawler.scenario.strict import option_names
+
+    table = command_table(command)
+    names = option_names(table)
+    out = ["| option | unit | default | range | meaning |", "|---|---|---|---|---|"]
+    for name, field in table.model_fields.items():
+        unit = unit_of(field.description or "")
+        meaning = field_meaning(field.description or "", unit)
+        default = _default_text(field.default)
+        if field.default is None and "; None: " in meaning:
+            meaning, default = meaning.split("; None: ", 1)
+        annotation = field.annotation
+        words = typing.get_args(annotation) if typing.get_origin(annotation) is Literal else ()
+        allowed = " \\| ".join(f"`{w}`" for w in words) or _range_text(field)
+        meaning = meaning.replace("|", "\\|")
+        out.append(f"| `{names[name]}` | {unit} | {default} | {allowed} | {meaning} |")
+    return "\n".join(out) + "\n"

@@ -45,9 +45,10 @@ class StrictSection(BaseModel):
 def pydantic_field(
     declared: dataclasses.Field, kind: Any, default: Any = dataclasses.MISSING
 ) -> Any:
-    """The pydantic ``Field`` of a setting declared with :func:`fe.options.setting`: its
-    default (``default`` instead, if given; none for a required one), its meaning as the
-    description and its range as pydantic bounds."""
+    """The pydantic ``Field`` of a setting declared with
+    :func:`bristlecrawler.settings.setting`: its default (``default`` instead, if given;
+    none for a required one), its meaning as the description and its range as pydantic
+    bounds."""
     meta = declared.metadata
     value = declared.default if default is dataclasses.MISSING else default
     extra = dict(meta["bounds"])
@@ -62,7 +63,7 @@ def pydantic_field(
 
 def section_of(
     settings: type,
-    base: type[StrictSection],
+    base: type[BaseModel],
     doc: str,
     *,
     exclude: tuple[str, ...] = (),
@@ -72,17 +73,19 @@ def section_of(
     name: str | None = None,
     prefix: str = "",
     types: dict[str, Any] | None = None,
-) -> type[StrictSection]:
-    """The scenario table of an options dataclass whose fields are declared with
-    :func:`fe.options.setting`: one key per setting (but ``exclude``), of the setting's
-    name, type and default, its meaning as the description and its range as pydantic
-    bounds; ``extra`` (name -> (type, declared setting)) adds the table's own keys in
-    front (a scenario's ``bristle.count``); ``types`` (name -> type) gives a key the type
-    its table takes where the dataclass's annotation is not it (a substrate's array
-    leaves, one number in a table). After the fields (their ranges checked by
-    pydantic), the table's ``rules(table)`` if given, else the dataclass's own
-    ``rules(prefix)`` (a :class:`fe.options.Settings`: the rules between settings), so
-    each rule has one home and runs once."""
+) -> type[BaseModel]:
+    """The table (a scenario's section, a command's options) of an options dataclass whose
+    fields are declared with :func:`bristlecrawler.settings.setting`: one key per setting
+    (but ``exclude``), of the setting's name, type and default, its meaning as the
+    description and its range as pydantic bounds; ``extra`` (name -> (type, declared
+    setting)) adds the table's own keys in front (a scenario's ``bristle.count``);
+    ``types`` (name -> type) gives a key the type its table takes where the dataclass's
+    annotation is not it (a substrate's array leaves, one number in a table). After the
+    fields (their ranges checked by pydantic), the table's ``rules(table)`` if given, else
+    the dataclass's own ``rules(prefix)`` (a :class:`bristlecrawler.settings.Settings`: the
+    rules between settings), so each rule has one home and runs once. ``base``: the
+    pydantic model the table derives from (:class:`StrictSection` for a scenario's, with
+    the table's own methods where it has some)."""
     hints = typing.get_type_hints(settings) | (types or {})
     fields: dict[str, Any] = {
         key: (kind, pydantic_field(declared, kind))

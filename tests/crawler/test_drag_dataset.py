@@ -1,0 +1,80 @@
+"""``drag.nc`` holds exactly the variables :data:`DRAG_VARIABLES` declares, each with its
+unit and meaning, and reads back to the same result."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from bristlecrawler.crawler.drag_analysis import DRAG_VARIABLES, DragResult
+from bristlecrawler.io.netcdf import write_netcdf
+
+ENERGIES = ("elastic", "kinetic", "potential", "friction", "damping", "external")
+
+
+def _spring_drag(pitch: float = 1.0, k: float = 0.8, fp: float = 0.2, fn: float = 0.5):
+    """A linear spring on a directional law dragged 4 pitches along and back: a result
+    that slides both ways, so it has a texture law."""
+    x = np.concatenate([np.linspace(0.0, 4 * pitch, 401), np.linspace(4 * pitch, 0.0, 401)])
+    tip, f, state = 0.0, [], []
+    for xi in x:
+        force = k * (xi - tip)
+        slipping = force > fp or force < -fn
+        force = min(max(force, -fn), fp)
+        tip = xi - force / k
+        f.append(force)
+        state.append(2 if slipping else 1)
+    m = x.size
+    rng = np.random.default_rng(0)
+    return DragResult(
+        t=np.arange(m, dtype=float),
+        x=x,
+        lift=rng.normal(size=m),
+        force_x=np.asarray(f),
+        contact=rng.normal(size=(m, 2)),
+        tip=np.stack([x - np.asarray(f) / k, np.zeros(m)], axis=1),
+        tip_state=np.asarray(state),
+        energies={name: rng.normal(size=m) for name in ENERGIES},
+        pitch=pitch,
+        load=1.0,
+        mu=0.5,
+        legs=((0, 400, 1), (401, m - 1, -1)),
+    )
+
+
+@pytest.mark.parametrize("both_ways", [True, False])
+def test_the_file_has_exactly_the_declared_variables_with_their_units(tmp_path, both_ways):
+    r = _spring_drag()
+    if not both_ways:
+        r = dataclasses.replace(r, legs=r.legs[:1])
+    write_netcdf(r.to_dataset(), tmp_path / "drag.nc")
+    with xr.open_dataset(tmp_path / "drag.nc") as ds:
+        ds.load()
+    texture = {"texture_position", "texture_fp", "texture_fn"}
+    declared = {v.name: v for v in DRAG_VARIABLES}
+    expected = set(declared) if both_ways else set(declared) - texture
+    assert set(ds.data_vars) == expected
+    for name in expected:
+        v, attrs = declared[name], ds[name].attrs
+        assert attrs["long_name"] == v.description, name
+        assert attrs.get("units", "") == v.unit, name
+        assert ds[name].dims == v.dims, name
+    assert ds["time"].attrs["units"] == "s"
+    assert list(ds["tip_state"].attrs["flag_meanings"].split()) == ["open", "stick", "slip"]
+    if both_ways:
+        assert ds["texture_fp"].attrs["pitch_mm"] == pytest.approx(1.0)
+        assert ds["texture_fn"].attrs["k_N_per_mm"] == pytest.approx(0.8, rel=1e-6)
+
+
+def test_the_file_reads_back_to_the_same_series(tmp_path):
+    r = _spring_drag()
+    write_netcdf(r.to_dataset(), tmp_path / "drag.nc")
+    with xr.open_dataset(tmp_path / "drag.nc") as ds:
+        back = DragResult.from_dataset(ds.load())
+    for name in ("t", "x", "lift", "force_x", "contact", "tip", "tip_state"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(r, name), err_msg=name)
+    for name in ENERGIES:
+        np.testing.assert_array_equal(back.energies[name], r.energies[name], err_msg=name)
+    assert back.legs == r.legs
+    assert back.summary()["fp_N"] == r.summary()["fp_N"]
