@@ -61,6 +61,7 @@ def test_every_part_succeeds_and_writes_its_figures(ctx):
     assert any(f.path.endswith(".gif") for f in ctx.results["fe-paper"].figures)
 
 
+@pytest.mark.slow
 def test_the_fe_part_reports_its_runs_own_numbers(ctx):
     """The part's numbers are those of the same scenario run directly: its advance per
     cycle sums to its net advance, and its work is the connector's."""
