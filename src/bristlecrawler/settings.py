@@ -20,6 +20,10 @@ from typing import Any, Literal
 
 from bristlecrawler.errors import InputError
 
+#: Largest length anywhere in a design or a run, mm (10 m): the FE model's coordinates
+#: stay far from round-off trouble, and any real crawler fits.
+MAX_LENGTH = 1e4
+
 #: The default of a setting that has none: the table must give it.
 REQUIRED: Any = dataclasses.MISSING
 

@@ -29,11 +29,7 @@ import numpy as np
 from bristlecrawler._pytree import as_float_leaf, is_concrete, pytree
 from bristlecrawler.contact.profile import PeriodicProfile, check_vertices, convex_corners
 from bristlecrawler.errors import InputError
-from bristlecrawler.fe.options import REQUIRED, setting
-
-#: Largest length anywhere in a design, mm (10 m): the FE model's coordinates stay far
-#: from round-off trouble, and any real crawler fits.
-MAX_LENGTH = 1e4
+from bristlecrawler.settings import MAX_LENGTH, REQUIRED, setting
 
 
 def _level(default: Any, doc: str) -> Any:

@@ -16,10 +16,9 @@ import numpy as np
 
 from bristlecrawler.contact.coulomb import FrictionLaw
 from bristlecrawler.contact.power_law import EXPONENT_RANGE, HERTZ_EXPONENT
-from bristlecrawler.contact.substrates import MAX_LENGTH
 from bristlecrawler.errors import InputError
 from bristlecrawler.fe import TaperedRect
-from bristlecrawler.fe.options import Settings, renamed, setting
+from bristlecrawler.settings import MAX_LENGTH, Settings, renamed, setting
 
 #: Largest inclination from the vertical a bristle may have, degrees.
 ALPHA_LIMIT_DEG = 80.0

@@ -25,10 +25,9 @@ from bristlecrawler.reduced.crawler import (
 )
 from bristlecrawler.reduced.gaits import Gait, breathing, peristaltic
 from bristlecrawler.reduced.strokes import Sin2Stroke, Stroke, TriangleStroke
-from bristlecrawler.settings import Settings, setting
+from bristlecrawler.settings import MAX_LENGTH, Settings, setting
 
-#: Bounds of the physical parameters: lengths in mm (10 m), forces in N; F_p/k in mm.
-MAX_LENGTH = 1e4
+#: Bounds of the physical parameters: forces in N, F_p/k in mm (lengths: MAX_LENGTH).
 MIN_FORCE = 1e-9
 MAX_FORCE = 1e6
 MIN_FP_OVER_K = 1e-9
