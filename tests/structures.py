@@ -21,6 +21,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 
+import numpy as np
+
 #: Overrides of a shipped scenario that give the coarse structure. The energy check's loss
 #: bound is finite so that runs check both of its sides.
 COARSE = (
@@ -93,3 +95,36 @@ def drag_rig(spec=None, **contact):
     spec = paper() if spec is None else spec
     c = dataclasses.replace(spec.contact, nodes="tip", corners=False, **contact)
     return dataclasses.replace(spec.replace_bristles(elements=6), contact=c)
+
+
+def spring_drag(k=0.8, fp=0.2, fn=0.5, f0=-0.05, d=4.0, n=4001):
+    """The reduced model's bristle as a drag record: a spring of stiffness k (N/mm) whose
+    tip sticks until the force reaches +F_p (along) or -F_n (against), dragged along by d
+    and back; it starts with a force f0 (N) held by friction."""
+    from bristlecrawler.crawler.drag_analysis import DragResult
+
+    x = np.concatenate([np.linspace(0.0, d, n), np.linspace(d, 0.0, n)[1:]])
+    tip, f, state = -f0 / k, [], []
+    for xi in x:
+        force = k * (xi - tip)
+        slipping = force > fp or force < -fn
+        force = min(max(force, -fn), fp)
+        tip = xi - force / k
+        f.append(force)
+        state.append(2 if slipping else 1)
+    m = x.size
+    zeros = {name: np.zeros(m) for name in ("elastic", "kinetic", "potential", "friction")}
+    return DragResult(
+        t=np.arange(m, dtype=float),
+        x=x,
+        lift=np.zeros(m),
+        force_x=np.asarray(f),
+        contact=np.zeros((m, 2)),
+        tip=np.zeros((m, 2)),
+        tip_state=np.asarray(state),
+        energies=zeros | {"damping": np.zeros(m), "external": np.zeros(m)},
+        pitch=1.0,
+        load=1.0,
+        mu=0.5,
+        legs=((0, n - 1, 1), (n - 1, m - 1, -1)),
+    )

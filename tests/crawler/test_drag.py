@@ -19,7 +19,7 @@ from bristlecrawler.crawler.model import weight_share
 from bristlecrawler.errors import InputError
 from bristlecrawler.states import ContactState
 from bristlecrawler.verification.references import inclined_horizontal_stiffness
-from structures import drag_rig
+from structures import drag_rig, spring_drag
 
 PAPER = CrawlerSpec.paper()
 
@@ -201,44 +201,11 @@ def test_the_paper_speed_is_quasi_static_for_the_bristle():
     assert quasi_static_ratio(PAPER, DragTest(speed=500.0)) > 0.5
 
 
-def _spring_drag(k=0.8, fp=0.2, fn=0.5, f0=-0.05, d=4.0, n=4001):
-    """The reduced model's bristle as a drag record: a spring of stiffness k (N/mm) whose
-    tip sticks until the force reaches +F_p (along) or -F_n (against), dragged along by d
-    and back; it starts with a force f0 (N) held by friction."""
-    from bristlecrawler.crawler.drag_analysis import DragResult
-
-    x = np.concatenate([np.linspace(0.0, d, n), np.linspace(d, 0.0, n)[1:]])
-    tip, f, state = -f0 / k, [], []
-    for xi in x:
-        force = k * (xi - tip)
-        slipping = force > fp or force < -fn
-        force = min(max(force, -fn), fp)
-        tip = xi - force / k
-        f.append(force)
-        state.append(2 if slipping else 1)
-    m = x.size
-    zeros = {name: np.zeros(m) for name in ("elastic", "kinetic", "potential", "friction")}
-    return DragResult(
-        t=np.arange(m, dtype=float),
-        x=x,
-        lift=np.zeros(m),
-        force_x=np.asarray(f),
-        contact=np.zeros((m, 2)),
-        tip=np.zeros((m, 2)),
-        tip_state=np.asarray(state),
-        energies=zeros | {"damping": np.zeros(m), "external": np.zeros(m)},
-        pitch=1.0,
-        load=1.0,
-        mu=0.5,
-        legs=((0, n - 1, 1), (n - 1, m - 1, -1)),
-    )
-
-
 def test_a_linear_spring_with_a_directional_law_gives_back_its_k_fp_and_fn():
     """The analysis reads the reduced model's own bristle back: the sliding means are F_p
     and F_n, and the travel to reach them (from the start, and from the turn, where the
     force swings from +F_p to -F_n) gives k."""
-    r = _spring_drag()
+    r = spring_drag()
     s = r.summary()
     assert s["fp_N"] == pytest.approx(0.2, rel=1e-9)
     assert s["fn_N"] == pytest.approx(0.5, rel=1e-9)
@@ -253,7 +220,7 @@ def test_the_typed_summary_is_the_summary_files_mapping():
     from bristlecrawler.io.jsonio import dumps_strict
     from bristlecrawler.results.drag import DragSummary
 
-    r = _spring_drag()
+    r = spring_drag()
     typed = r.summarize()
     assert (typed.k, typed.fp, typed.fn) == (
         pytest.approx(0.8, rel=1e-9),
