@@ -132,12 +132,25 @@ def cone_excess(bodies: Bodies, contacts: Contacts, lam, u, held):
 
 
 def predict(
-    bodies, contacts, pose, u, s_old, s_new, tally: Tally, carry=None, opts=None, newton=None
+    bodies,
+    contacts,
+    pose,
+    u,
+    s_old,
+    s_new,
+    tally: Tally,
+    carry=None,
+    opts=None,
+    newton=None,
+    hold_snapped: bool = True,
 ):
     """The predictor: the equilibrium at ``s_new`` with the tips held, except those in
     ``carry`` = (sliding (D, B), direction (D, B)), the tips that were sliding at
     ``s_old``, which go on sliding on their cones' edges (:func:`.slide.solve_slides`; one that
     would go backwards sticks). ``pose`` is (q, phi, lambda, held); returns (pose, u).
+    A design whose carried slides snap is solved with its tips held, unless not
+    ``hold_snapped`` (its step to be played again: its pose and sums are then not to be
+    used).
 
     The actuator's work over the step is the rise of Pi = E_el + E_g plus what the
     carried slides dissipated, mu N |du| (N by the trapezoid rule over the step). Also
@@ -170,7 +183,7 @@ def predict(
         new_u[rows] = np.where(ok_c[:, None], u_c, u[rows])
         done[rows] = ok_c
         snapped[rows] = ~ok_c
-    rest = np.flatnonzero(~done)
+    rest = np.flatnonzero(~done if hold_snapped else ~done & ~snapped)
     if rest.size:
         tips, _, _ = contacts.take(rest).frame(u[rest])
         q_r, phi_r, lam_r, ok = equilibrium(
@@ -198,20 +211,41 @@ def step(bodies, contacts, state, s_old, s_new, tally: Tally, opts, newton, refi
     trial = Tally.zeros(len(u))
     f_old = actuator_forces(bodies, pose[0], pose[2], s_old)
     pose, u_new, snapped = predict(
-        bodies, contacts, pose, u, s_old, s_new, trial, carry, opts, newton
+        bodies, contacts, pose, u, s_old, s_new, trial, carry, opts, newton, refine <= 1
     )
+    redo = np.flatnonzero(snapped) if refine > 1 else np.zeros(0, int)
+    keep = np.ones(len(u), bool)
+    keep[redo] = False
     f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
     trial.force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
-    pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
+    if redo.size:
+        # The designs that play the step again need no corrector on this try.
+        rows = np.flatnonzero(keep)
+        sub_tally = Tally.zeros(rows.size)
+        sub_pose, sub_u = correct(
+            bodies.take(rows),
+            contacts.take(rows),
+            tuple(a[rows] for a in pose),
+            u_new[rows],
+            s_new[rows],
+            sub_tally,
+            opts,
+            newton,
+        )
+        trial.add(rows, sub_tally)
+        pose = tuple(a.copy() for a in pose)
+        for a, b in zip(pose, sub_pose, strict=True):
+            a[rows] = b
+        u_new = u_new.copy()
+        u_new[rows] = sub_u
+    else:
+        pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
     carried = sliding_tips(bodies, contacts, pose, u, u_new, opts)
     if carry is not None:
         # Where s stood still nothing moved, and what was sliding still is.
         still = np.all(s_new == s_old, axis=1)[:, None]
         carried = tuple(np.where(still, a, b) for a, b in zip(carry, carried, strict=True))
     new = (pose, u_new, carried)
-    redo = np.flatnonzero(snapped) if refine > 1 else np.zeros(0, int)
-    keep = np.ones(len(u), bool)
-    keep[redo] = False
     tally.add(keep, trial.take(keep))
     if redo.size:
         sub = _rows(state, redo)
