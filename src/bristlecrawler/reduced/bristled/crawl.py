@@ -317,10 +317,15 @@ def _lift_and_touch(bodies, contacts, pose, u, s, opts):
     lift = np.zeros_like(held)
     lift[np.arange(len(q)), worst] = pull[np.arange(len(q)), worst] > opts.tol
     free = bodies.on & ~held & ~lift
-    tips = tips_of(bodies, q, phi, s)
-    which = np.broadcast_to(contacts.which[:, None], u.shape)
-    below = free & (tips[..., 1] < contacts.paths.height_at(which, tips[..., 0]))
-    u = np.where(below, contacts.paths.arc_at(which, tips[..., 0]), u)
+    below = np.zeros_like(free)
+    if free.any():
+        rows = np.flatnonzero(free.any(axis=1))
+        tips = tips_of(bodies.take(rows), q[rows], phi[rows], s[rows])
+        which = np.broadcast_to(contacts.which[rows, None], tips.shape[:-1])
+        ground = contacts.paths.height_at(which, tips[..., 0])
+        below[rows] = free[rows] & (tips[..., 1] < ground)
+        u = u.copy()
+        u[rows] = np.where(below[rows], contacts.paths.arc_at(which, tips[..., 0]), u[rows])
     held = (held & ~lift) | below
     return held, u, (lift | below).any(axis=1)
 
