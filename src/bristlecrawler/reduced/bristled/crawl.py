@@ -357,19 +357,32 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
     falls as the tip goes) the tips run on in growing steps (``du_max`` to ``du_run``)
     until their stop is within a Newton iteration's reach."""
     opts, newton = opts or SlideOptions(), newton or NewtonOptions()
+    bodies_all, s_all = bodies, s
     start = potential(bodies, pose[0], pose[1], s)
-    rows = np.arange(len(u))
+    out_pose, out_u = tuple(a.copy() for a in pose), u.copy()
+    # The designs still correcting: one whose tips are all within their cones leaves the
+    # loop (nothing of it changes any more), so a long snap in one design costs the
+    # others nothing.
+    act = np.arange(len(u))
     last_du = np.zeros(u.shape)
     last_ex = np.zeros(u.shape)
     snapping = np.zeros(len(u), bool)
-    live = np.zeros(len(u), bool)
     for _ in range(opts.iterations):
         held, u, changed = _lift_and_touch(bodies, contacts, pose, u, s, opts)
         pose = (*pose[:3], held)
         excess, dirn, normal = cone_excess(bodies, contacts, pose[2], u, held)
         live = (excess > opts.tol).any(axis=1) | changed
-        if not live.any():
-            break
+        if not live.all():
+            _store(out_pose, out_u, act[~live], pose, u, ~live)
+            keep = np.flatnonzero(live)
+            if keep.size == 0:
+                break
+            act = act[keep]
+            bodies, contacts, s = bodies.take(keep), contacts.take(keep), s[keep]
+            pose, u = tuple(a[keep] for a in pose), u[keep]
+            last_du, last_ex, snapping = last_du[keep], last_ex[keep], snapping[keep]
+            excess, dirn, normal, changed = excess[keep], dirn[keep], normal[keep], changed[keep]
+        rows = np.arange(len(u))
         # A snapping tip is solved for again once its resistance rises enough that, by the
         # secant, its stop is within one Newton iteration's reach.
         slope = (last_ex - excess) / np.where(last_du > 0, last_du, 1.0)
@@ -379,7 +392,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
         du = np.where(changed[:, None], 0.0, du)
         new_pose, new_u = pose, u
         solved = np.zeros(len(u), bool)
-        trial = rows[live & ~changed & ~snapping]
+        trial = rows[~changed & ~snapping]
         if trial.size:
             p_t, u_t, ok_t = solve_slides(
                 bodies.take(trial),
@@ -401,7 +414,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
             new_u = u.copy()
             new_u[trial] = np.where(ok_t[:, None], u_t, u[trial])
             du[trial] = np.where(ok_t[:, None], np.abs(u_t - u[trial]), du[trial])
-        rest = rows[live & ~solved]
+        rest = rows[~solved]
         if rest.size:
             p_r, u_r, ok_r = _run_on(
                 bodies.take(rest),
@@ -418,13 +431,21 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
                 a[rest] = b
             new_u = new_u.copy()
             new_u[rest] = u_r
-            tally.unconverged[rest] += ~ok_r
-        tally.coulomb += np.sum(contacts.mu[:, None] * np.maximum(normal, 0.0) * du, 1) * live
-        tally.lifts += changed
+            tally.unconverged[act[rest]] += ~ok_r
+        tally.coulomb[act] += np.sum(contacts.mu[:, None] * np.maximum(normal, 0.0) * du, 1)
+        tally.lifts[act] += changed
         pose, u = new_pose, new_u
-        last_ex = np.where(live[:, None], excess, last_ex)
-        last_du = np.where(live[:, None], du, last_du)
+        last_ex, last_du = excess, du
     else:
-        tally.stalled += live
-    tally.dissipation += start - potential(bodies, pose[0], pose[1], s)
-    return pose, u
+        tally.stalled[act] += 1
+        _store(out_pose, out_u, act, pose, u, np.ones(len(act), bool))
+    tally.dissipation += start - potential(bodies_all, out_pose[0], out_pose[1], s_all)
+    return out_pose, out_u
+
+
+def _store(out_pose, out_u, where, pose, u, which):
+    """Write the designs ``which`` (bool over the sub-batch) of (pose, u) into the rows
+    ``where`` of (out_pose, out_u)."""
+    for a, b in zip(out_pose, pose, strict=True):
+        a[where] = b[which]
+    out_u[where] = u[which]
