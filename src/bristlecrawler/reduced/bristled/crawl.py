@@ -218,7 +218,9 @@ def step(bodies, contacts, state, s_old, s_new, tally: Tally, opts, newton, refi
     keep[redo] = False
     f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
     trial.force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
-    if redo.size:
+    if not redo.size:
+        pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
+    elif redo.size < len(u):
         # The designs that play the step again need no corrector on this try.
         rows = np.flatnonzero(keep)
         sub_tally = Tally.zeros(rows.size)
@@ -238,8 +240,6 @@ def step(bodies, contacts, state, s_old, s_new, tally: Tally, opts, newton, refi
             a[rows] = b
         u_new = u_new.copy()
         u_new[rows] = sub_u
-    else:
-        pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
     carried = sliding_tips(bodies, contacts, pose, u, u_new, opts)
     if carry is not None:
         # Where s stood still nothing moved, and what was sliding still is.
@@ -372,7 +372,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
         pose = (*pose[:3], held)
         excess, dirn, normal = cone_excess(bodies, contacts, pose[2], u, held)
         live = (excess > opts.tol).any(axis=1) | changed
-        if not live.all():
+        if not live.all() or live.size == 0:
             _store(out_pose, out_u, act[~live], pose, u, ~live)
             keep = np.flatnonzero(live)
             if keep.size == 0:
