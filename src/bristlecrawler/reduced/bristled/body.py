@@ -74,43 +74,43 @@ def node_places(bodies: Bodies, s) -> np.ndarray:
     return bodies.place - np.sum(bodies.behind * s[:, None, :], axis=-1)
 
 
-def _rot(theta, v):
-    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
-    return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], -1)
+def _pair(x, y):
+    """(..., 2) from two arrays of the same shape (np.stack's checks cost more than this
+    at the batch sizes here)."""
+    out = np.empty((*np.shape(x), 2))
+    out[..., 0], out[..., 1] = x, y
+    return out
 
 
-def _perp(v):
-    return np.stack([-v[..., 1], v[..., 0]], -1)
-
-
-def _cross(a, b):
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+def _arm_parts(bodies: Bodies, q, phi, s):
+    """The arms of :func:`_arms` as components: v, g1, g2 each as (x, y) arrays (D, B),
+    and d (D, B). v is rotated by theta from the body frame, as g1 and g2 are."""
+    c = bodies.chain
+    d = node_places(bodies, s)
+    p1 = c["theta_r"] + phi[..., 0]
+    p2 = p1 + phi[..., 1]
+    e2x, e2y = c["l2"] * np.cos(p2), c["l2"] * np.sin(p2)
+    e1x, e1y = c["l1"] * np.cos(p1) + e2x, c["l1"] * np.sin(p1) + e2y
+    ax = d + c["s1"] * np.cos(c["theta_r"]) + e1x
+    ay = -bodies.link[:, None] + c["s1"] * np.sin(c["theta_r"]) + e1y
+    ct, st = np.cos(q[:, 2])[:, None], np.sin(q[:, 2])[:, None]
+    v = (ct * ax - st * ay, st * ax + ct * ay)
+    g1 = (ct * e1x - st * e1y, st * e1x + ct * e1y)
+    g2 = (ct * e2x - st * e2y, st * e2x + ct * e2y)
+    return v, g1, g2, d
 
 
 def _arms(bodies: Bodies, q, phi, s):
     """Global vectors: v from the rear body node to each tip, g1 from the first joint and
     g2 from the second joint to the tip (D, B, 2); and the node places d (D, B)."""
-    c = bodies.chain
-    d = node_places(bodies, s)
-    p1 = c["theta_r"] + phi[..., 0]
-    p2 = p1 + phi[..., 1]
-    e2 = np.stack([c["l2"] * np.cos(p2), c["l2"] * np.sin(p2)], -1)
-    e1 = np.stack([c["l1"] * np.cos(p1), c["l1"] * np.sin(p1)], -1) + e2
-    a = np.stack(
-        [
-            d + c["s1"] * np.cos(c["theta_r"]),
-            -bodies.link[:, None] + c["s1"] * np.sin(c["theta_r"]),
-        ],
-        -1,
-    )
-    th = q[:, 2]
-    return _rot(th, a + e1), _rot(th, e1), _rot(th, e2), d
+    v, g1, g2, d = _arm_parts(bodies, q, phi, s)
+    return _pair(*v), _pair(*g1), _pair(*g2), d
 
 
 def tips_of(bodies: Bodies, q, phi, s):
     """Where the rods put the tips, global, mm (D, B, 2)."""
-    v, _, _, _ = _arms(bodies, q, phi, s)
-    return q[:, None, :2] + v
+    (vx, vy), _, _, _ = _arm_parts(bodies, q, phi, s)
+    return _pair(q[:, 0:1] + vx, q[:, 1:2] + vy)
 
 
 def energy(bodies: Bodies, q, phi, s):
@@ -131,8 +131,8 @@ def potential(bodies: Bodies, q, phi, s) -> np.ndarray:
 def actuator_forces(bodies: Bodies, q, lam, s) -> np.ndarray:
     """The force each segment's actuator exerts in equilibrium, f_j = dL/ds_j (N,
     (D, B-1)): the tips' and the weights' pull along the axis on the nodes ahead of it."""
-    axis = np.stack([np.cos(q[:, 2]), np.sin(q[:, 2])], -1)[:, None, :]
-    per_node = np.sum(lam * axis, -1) + bodies.weight * np.sin(q[:, 2:3])
+    ct, st = np.cos(q[:, 2])[:, None], np.sin(q[:, 2])[:, None]
+    per_node = (lam[..., 0] * ct + lam[..., 1] * st) + bodies.weight * st
     per_node = np.where(bodies.on, per_node, 0.0)
     return -np.sum(per_node[:, :, None] * bodies.behind, axis=1)
 
@@ -143,47 +143,50 @@ def kkt(bodies: Bodies, q, phi, lam, tips, s, held):
     ``held`` (D, B) is off the substrate: its rod is at rest and carries nothing."""
     c, on = bodies.chain, bodies.on & held
     D, B = phi.shape[:2]
-    v, g1, g2, d = _arms(bodies, q, phi, s)
+    (vx, vy), (g1x, g1y), (g2x, g2y), d = _arm_parts(bodies, q, phi, s)
     w = np.where(bodies.on, bodies.weight, 0.0)
-    lam = np.where(on[..., None], lam, 0.0)
+    lx = np.where(on, lam[..., 0], 0.0)
+    ly = np.where(on, lam[..., 1], 0.0)
+    ph1, ph2 = phi[..., 0], phi[..., 1]
     n = 3 + 4 * B
     r = np.zeros((D, n))
     K = np.zeros((D, n, n))
-    ct = np.cos(q[:, 2])
-    r[:, 0] = lam[..., 0].sum(1)
-    r[:, 1] = w.sum(1) + lam[..., 1].sum(1)
-    r[:, 2] = (w * d).sum(1) * ct + np.where(on, _cross(v, lam), 0.0).sum(1)
-    K[:, 2, 2] = -(w * d).sum(1) * np.sin(q[:, 2]) + np.where(on, _cross(_perp(v), lam), 0.0).sum(1)
-    for i in range(B):
-        o = 3 + 4 * i
-        f, p, ph, lm = on[:, i], (slice(None), i), phi[:, i], lam[:, i]
-        a1, a2 = _cross(_perp(g1[p]), lm), _cross(_perp(g2[p]), lm)
-        r[:, o] = np.where(f, c["k1"][p] * ph[:, 0] + _cross(g1[p], lm), ph[:, 0])
-        r[:, o + 1] = np.where(f, c["k2"][p] * ph[:, 1] + _cross(g2[p], lm), ph[:, 1])
-        r[:, o + 2 : o + 4] = np.where(f[:, None], q[:, :2] + v[p] - tips[p], lam[:, i])
-        rows = {
-            o: (a1, c["k1"][p] + a1, a2, -g1[p][:, 1], g1[p][:, 0]),
-            o + 1: (a2, a2, c["k2"][p] + a2, -g2[p][:, 1], g2[p][:, 0]),
-        }
-        for row, (dt, d1, d2, lx, ly) in rows.items():
-            K[:, row, 2], K[:, 2, row] = dt, dt
-            K[:, row, o], K[:, row, o + 1] = d1, d2
-            K[:, row, o + 2], K[:, row, o + 3] = lx, ly
-            K[:, o + 2, row], K[:, o + 3, row] = lx, ly
-        pv = _perp(v[p])
-        K[:, o + 2, 0], K[:, 0, o + 2] = 1.0, 1.0
-        K[:, o + 3, 1], K[:, 1, o + 3] = 1.0, 1.0
-        K[:, o + 2, 2], K[:, 2, o + 2] = pv[:, 0], pv[:, 0]
-        K[:, o + 3, 2], K[:, 2, o + 3] = pv[:, 1], pv[:, 1]
-        off = ~f
-        K[off, o : o + 4, :] = 0.0
-        K[off, :, o : o + 4] = 0.0
-        K[off, o : o + 4, o : o + 4] = np.eye(4)
+    wd = (w * d).sum(1)
+    r[:, 0] = lx.sum(1)
+    r[:, 1] = w.sum(1) + ly.sum(1)
+    r[:, 2] = wd * np.cos(q[:, 2]) + np.where(on, vx * ly - vy * lx, 0.0).sum(1)
+    K[:, 2, 2] = -wd * np.sin(q[:, 2]) + np.where(on, -vy * ly - vx * lx, 0.0).sum(1)
+    # Per bristle i, its unknowns at o = 3 + 4 i: phi_1, phi_2, lambda_x, lambda_y.
+    o = 3 + 4 * np.arange(B)
+    a1 = -g1y * ly - g1x * lx
+    a2 = -g2y * ly - g2x * lx
+    r[:, o] = np.where(on, c["k1"] * ph1 + (g1x * ly - g1y * lx), ph1)
+    r[:, o + 1] = np.where(on, c["k2"] * ph2 + (g2x * ly - g2y * lx), ph2)
+    r[:, o + 2] = np.where(on, q[:, 0:1] + vx - tips[..., 0], 0.0)
+    r[:, o + 3] = np.where(on, q[:, 1:2] + vy - tips[..., 1], 0.0)
+    K[:, o, 2] = K[:, 2, o] = a1
+    K[:, o + 1, 2] = K[:, 2, o + 1] = a2
+    K[:, o, o] = c["k1"] + a1
+    K[:, o, o + 1] = K[:, o + 1, o] = a2
+    K[:, o + 1, o + 1] = c["k2"] + a2
+    K[:, o, o + 2] = K[:, o + 2, o] = -g1y
+    K[:, o, o + 3] = K[:, o + 3, o] = g1x
+    K[:, o + 1, o + 2] = K[:, o + 2, o + 1] = -g2y
+    K[:, o + 1, o + 3] = K[:, o + 3, o + 1] = g2x
+    K[:, o + 2, 0] = K[:, 0, o + 2] = 1.0
+    K[:, o + 3, 1] = K[:, 1, o + 3] = 1.0
+    K[:, o + 2, 2] = K[:, 2, o + 2] = -vy
+    K[:, o + 3, 2] = K[:, 2, o + 3] = vx
+    # A free tip's unknowns decouple: its rod at rest, its multiplier zero.
     fixed = ~bodies.free_pitch
-    r[fixed, 2] = 0.0
-    K[fixed, 2, :] = 0.0
-    K[fixed, :, 2] = 0.0
-    K[fixed, 2, 2] = 1.0
+    if not on.all() or fixed.any():
+        live = np.ones((D, n), bool)
+        live[:, 3:] = np.repeat(on, 4, axis=1)
+        live[:, 2] = ~fixed
+        K = np.where(live[:, :, None] & live[:, None, :], K, 0.0)
+        diag = np.arange(n)
+        K[:, diag, diag] = np.where(live, K[:, diag, diag], 1.0)
+        r[:, 2] = np.where(fixed, 0.0, r[:, 2])
     return r, K
 
 
@@ -210,24 +213,39 @@ def equilibrium(bodies: Bodies, q, phi, lam, tips, s, held, opts: NewtonOptions 
     D, B = phi.shape[:2]
     x = np.concatenate([q, np.concatenate([phi, lam], -1).reshape(D, 4 * B)], -1)
     done = np.zeros(D, bool)
-    for _ in range(opts.iterations):
-        act = np.flatnonzero(~done)
-        if act.size == 0:
-            break
+    act = np.arange(D)
+    sub = (bodies, tips, s, held)
+    for _ in range(opts.iterations if D else 0):
         xa = x[act]
         qa, pa, la = split_unknowns(xa, B)
-        r, K = kkt(bodies.take(act), qa, pa, la, tips[act], s[act], held[act])
+        r, K = kkt(sub[0], qa, pa, la, *sub[1:])
         small = np.abs(r).max(axis=1) < opts.tol
         done[act[small]] = True
-        # A singular system (one design's) must not stop the batch: that design stays put.
-        ok = np.abs(np.linalg.det(K)) > 1e-300
-        K[~ok] = np.eye(K.shape[1])
-        step = -np.linalg.solve(K, np.where(ok[:, None], r, 0.0)[..., None])[..., 0]
+        step = newton_steps(K, r)
         ang = np.abs(step[:, 3:].reshape(-1, B, 4)[..., :2]).max(axis=(1, 2))
         scale = np.minimum(1.0, opts.max_angle / np.maximum(ang, 1e-300))
         x[act] = np.where(small[:, None], xa, xa + scale[:, None] * step)
+        if small.any():
+            # The designs in equilibrium leave the solve; the others go on.
+            keep = np.flatnonzero(~small)
+            if keep.size == 0:
+                break
+            act = act[keep]
+            sub = (sub[0].take(keep), *(a[keep] for a in sub[1:]))
     q, phi, lam = split_unknowns(x, B)
     return q, phi, lam, done
+
+
+def newton_steps(K, r):
+    """-K^-1 r for each design's system (D, n, n), (D, n). A singular system (one
+    design's) must not stop the batch: it gives no step, and that design stays put."""
+    try:
+        step = -np.linalg.solve(K, r[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        ok = np.abs(np.linalg.det(K)) > 1e-300
+        K = np.where(ok[:, None, None], K, np.eye(K.shape[1]))
+        return -np.linalg.solve(K, np.where(ok[:, None], r, 0.0)[..., None])[..., 0]
+    return np.where(np.isfinite(step).all(axis=1)[:, None], step, 0.0)
 
 
 def split_unknowns(x, B):

@@ -132,12 +132,25 @@ def cone_excess(bodies: Bodies, contacts: Contacts, lam, u, held):
 
 
 def predict(
-    bodies, contacts, pose, u, s_old, s_new, tally: Tally, carry=None, opts=None, newton=None
+    bodies,
+    contacts,
+    pose,
+    u,
+    s_old,
+    s_new,
+    tally: Tally,
+    carry=None,
+    opts=None,
+    newton=None,
+    hold_snapped: bool = True,
 ):
     """The predictor: the equilibrium at ``s_new`` with the tips held, except those in
     ``carry`` = (sliding (D, B), direction (D, B)), the tips that were sliding at
     ``s_old``, which go on sliding on their cones' edges (:func:`.slide.solve_slides`; one that
     would go backwards sticks). ``pose`` is (q, phi, lambda, held); returns (pose, u).
+    A design whose carried slides snap is solved with its tips held, unless not
+    ``hold_snapped`` (its step to be played again: its pose and sums are then not to be
+    used).
 
     The actuator's work over the step is the rise of Pi = E_el + E_g plus what the
     carried slides dissipated, mu N |du| (N by the trapezoid rule over the step). Also
@@ -170,7 +183,7 @@ def predict(
         new_u[rows] = np.where(ok_c[:, None], u_c, u[rows])
         done[rows] = ok_c
         snapped[rows] = ~ok_c
-    rest = np.flatnonzero(~done)
+    rest = np.flatnonzero(~done if hold_snapped else ~done & ~snapped)
     if rest.size:
         tips, _, _ = contacts.take(rest).frame(u[rest])
         q_r, phi_r, lam_r, ok = equilibrium(
@@ -198,20 +211,41 @@ def step(bodies, contacts, state, s_old, s_new, tally: Tally, opts, newton, refi
     trial = Tally.zeros(len(u))
     f_old = actuator_forces(bodies, pose[0], pose[2], s_old)
     pose, u_new, snapped = predict(
-        bodies, contacts, pose, u, s_old, s_new, trial, carry, opts, newton
+        bodies, contacts, pose, u, s_old, s_new, trial, carry, opts, newton, refine <= 1
     )
+    redo = np.flatnonzero(snapped) if refine > 1 else np.zeros(0, int)
+    keep = np.ones(len(u), bool)
+    keep[redo] = False
     f_new = actuator_forces(bodies, pose[0], pose[2], s_new)
     trial.force_work += np.sum(0.5 * (f_old + f_new) * (s_new - s_old), axis=1)
-    pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
+    if not redo.size:
+        pose, u_new = correct(bodies, contacts, pose, u_new, s_new, trial, opts, newton)
+    elif redo.size < len(u):
+        # The designs that play the step again need no corrector on this try.
+        rows = np.flatnonzero(keep)
+        sub_tally = Tally.zeros(rows.size)
+        sub_pose, sub_u = correct(
+            bodies.take(rows),
+            contacts.take(rows),
+            tuple(a[rows] for a in pose),
+            u_new[rows],
+            s_new[rows],
+            sub_tally,
+            opts,
+            newton,
+        )
+        trial.add(rows, sub_tally)
+        pose = tuple(a.copy() for a in pose)
+        for a, b in zip(pose, sub_pose, strict=True):
+            a[rows] = b
+        u_new = u_new.copy()
+        u_new[rows] = sub_u
     carried = sliding_tips(bodies, contacts, pose, u, u_new, opts)
     if carry is not None:
         # Where s stood still nothing moved, and what was sliding still is.
         still = np.all(s_new == s_old, axis=1)[:, None]
         carried = tuple(np.where(still, a, b) for a, b in zip(carry, carried, strict=True))
     new = (pose, u_new, carried)
-    redo = np.flatnonzero(snapped) if refine > 1 else np.zeros(0, int)
-    keep = np.ones(len(u), bool)
-    keep[redo] = False
     tally.add(keep, trial.take(keep))
     if redo.size:
         sub = _rows(state, redo)
@@ -283,10 +317,15 @@ def _lift_and_touch(bodies, contacts, pose, u, s, opts):
     lift = np.zeros_like(held)
     lift[np.arange(len(q)), worst] = pull[np.arange(len(q)), worst] > opts.tol
     free = bodies.on & ~held & ~lift
-    tips = tips_of(bodies, q, phi, s)
-    which = np.broadcast_to(contacts.which[:, None], u.shape)
-    below = free & (tips[..., 1] < contacts.paths.height_at(which, tips[..., 0]))
-    u = np.where(below, contacts.paths.arc_at(which, tips[..., 0]), u)
+    below = np.zeros_like(free)
+    if free.any():
+        rows = np.flatnonzero(free.any(axis=1))
+        tips = tips_of(bodies.take(rows), q[rows], phi[rows], s[rows])
+        which = np.broadcast_to(contacts.which[rows, None], tips.shape[:-1])
+        ground = contacts.paths.height_at(which, tips[..., 0])
+        below[rows] = free[rows] & (tips[..., 1] < ground)
+        u = u.copy()
+        u[rows] = np.where(below[rows], contacts.paths.arc_at(which, tips[..., 0]), u[rows])
     held = (held & ~lift) | below
     return held, u, (lift | below).any(axis=1)
 
@@ -318,19 +357,32 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
     falls as the tip goes) the tips run on in growing steps (``du_max`` to ``du_run``)
     until their stop is within a Newton iteration's reach."""
     opts, newton = opts or SlideOptions(), newton or NewtonOptions()
+    bodies_all, s_all = bodies, s
     start = potential(bodies, pose[0], pose[1], s)
-    rows = np.arange(len(u))
+    out_pose, out_u = tuple(a.copy() for a in pose), u.copy()
+    # The designs still correcting: one whose tips are all within their cones leaves the
+    # loop (nothing of it changes any more), so a long snap in one design costs the
+    # others nothing.
+    act = np.arange(len(u))
     last_du = np.zeros(u.shape)
     last_ex = np.zeros(u.shape)
     snapping = np.zeros(len(u), bool)
-    live = np.zeros(len(u), bool)
     for _ in range(opts.iterations):
         held, u, changed = _lift_and_touch(bodies, contacts, pose, u, s, opts)
         pose = (*pose[:3], held)
         excess, dirn, normal = cone_excess(bodies, contacts, pose[2], u, held)
         live = (excess > opts.tol).any(axis=1) | changed
-        if not live.any():
-            break
+        if not live.all() or live.size == 0:
+            _store(out_pose, out_u, act[~live], pose, u, ~live)
+            keep = np.flatnonzero(live)
+            if keep.size == 0:
+                break
+            act = act[keep]
+            bodies, contacts, s = bodies.take(keep), contacts.take(keep), s[keep]
+            pose, u = tuple(a[keep] for a in pose), u[keep]
+            last_du, last_ex, snapping = last_du[keep], last_ex[keep], snapping[keep]
+            excess, dirn, normal, changed = excess[keep], dirn[keep], normal[keep], changed[keep]
+        rows = np.arange(len(u))
         # A snapping tip is solved for again once its resistance rises enough that, by the
         # secant, its stop is within one Newton iteration's reach.
         slope = (last_ex - excess) / np.where(last_du > 0, last_du, 1.0)
@@ -340,7 +392,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
         du = np.where(changed[:, None], 0.0, du)
         new_pose, new_u = pose, u
         solved = np.zeros(len(u), bool)
-        trial = rows[live & ~changed & ~snapping]
+        trial = rows[~changed & ~snapping]
         if trial.size:
             p_t, u_t, ok_t = solve_slides(
                 bodies.take(trial),
@@ -362,7 +414,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
             new_u = u.copy()
             new_u[trial] = np.where(ok_t[:, None], u_t, u[trial])
             du[trial] = np.where(ok_t[:, None], np.abs(u_t - u[trial]), du[trial])
-        rest = rows[live & ~solved]
+        rest = rows[~solved]
         if rest.size:
             p_r, u_r, ok_r = _run_on(
                 bodies.take(rest),
@@ -379,13 +431,21 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
                 a[rest] = b
             new_u = new_u.copy()
             new_u[rest] = u_r
-            tally.unconverged[rest] += ~ok_r
-        tally.coulomb += np.sum(contacts.mu[:, None] * np.maximum(normal, 0.0) * du, 1) * live
-        tally.lifts += changed
+            tally.unconverged[act[rest]] += ~ok_r
+        tally.coulomb[act] += np.sum(contacts.mu[:, None] * np.maximum(normal, 0.0) * du, 1)
+        tally.lifts[act] += changed
         pose, u = new_pose, new_u
-        last_ex = np.where(live[:, None], excess, last_ex)
-        last_du = np.where(live[:, None], du, last_du)
+        last_ex, last_du = excess, du
     else:
-        tally.stalled += live
-    tally.dissipation += start - potential(bodies, pose[0], pose[1], s)
-    return pose, u
+        tally.stalled[act] += 1
+        _store(out_pose, out_u, act, pose, u, np.ones(len(act), bool))
+    tally.dissipation += start - potential(bodies_all, out_pose[0], out_pose[1], s_all)
+    return out_pose, out_u
+
+
+def _store(out_pose, out_u, where, pose, u, which):
+    """Write the designs ``which`` (bool over the sub-batch) of (pose, u) into the rows
+    ``where`` of (out_pose, out_u)."""
+    for a, b in zip(out_pose, pose, strict=True):
+        a[where] = b[which]
+    out_u[where] = u[which]

@@ -244,13 +244,15 @@ class PathTable:
         i = np.clip(np.floor(k).astype(int), 0, m - 1)
         w = k - i
         lerp = lambda a: a[which, i] * (1.0 - w) + a[which, i + 1] * w  # noqa: E731
-        x = lerp(self.x) + turns * self.pitch[which]
-        y = lerp(self.y)
         a0, a1 = self.angle[which, i], self.angle[which, i + 1]
         a = a0 + w * ((a1 - a0 + np.pi) % (2 * np.pi) - np.pi)
-        t = np.stack([np.cos(a), np.sin(a)], -1)
-        n = np.stack([-t[..., 1], t[..., 0]], -1)
-        return np.stack([x, y], -1), t, n
+        cos, sin = np.cos(a), np.sin(a)
+        out = np.empty((3, *a.shape, 2))
+        out[0, ..., 0] = lerp(self.x) + turns * self.pitch[which]
+        out[0, ..., 1] = lerp(self.y)
+        out[1, ..., 0], out[1, ..., 1] = cos, sin
+        out[2, ..., 0], out[2, ..., 1] = -sin, cos
+        return out[0], out[1], out[2]
 
     def derivatives(self, which, u):
         """d(centre)/du (..., 2) and the curvature d(angle)/du (1/mm) at arc length ``u``
