@@ -1,20 +1,26 @@
-"""The body's equilibrium with sliding tips: each sliding tip's place on its path among the
-unknowns, Coulomb's law its equation.
+"""The body's equilibrium with sliding tips at frozen s: each tip that may slide has its
+place on its path among the unknowns, and Coulomb's law in complementarity form as its
+equation, so that which tips stick and which slide comes out of the solve.
 
 With the tips ``held`` at arc lengths u_i on their paths c(u), the equilibrium of
-:mod:`.body` has unknowns (q, phi, lambda). A tip that slides is held on its path but not
-at a fixed u: its u is one more unknown, and its equation is Coulomb's law on the cone's
-edge in the direction it slides (sigma_i = +-1 along the path),
+:mod:`.body` has unknowns (q, phi, lambda). A tip that may slide is held on its path but
+not at a fixed u: its u is one more unknown. With R_t = -lambda . t(u) and
+R_n = -lambda . n(u) the substrate's tangential and normal force on it and
+du = u - u_0 its slide from where it was, Coulomb's law (stick with |R_t| <= mu R_n, or
+slide with R_t = -sign(du) mu R_n) is the one equation (Alart & Curnier, Comput. Methods
+Appl. Mech. Eng. 92, 1991)
 
-    sigma_i lambda_i . t(u_i) + mu lambda_i . n(u_i) = 0
+    R_t = proj_[-mu R_n, mu R_n] (R_t - c du),
 
-(-lambda_i is the substrate's force on the tip, so this says |R . t| = mu R . n with the
-friction opposing the slide). A tip that sticks keeps u_i = u_i0. All the sliding tips of
-a design are solved together with the body, by Newton's method on the whole system with
-its exact Jacobian (dc/du = t, dt/du = kappa n, dn/du = -kappa t, kappa the path's
-curvature, as the path's samples are interpolated): the stiff coupling of three or more
-tips through the body is in the Jacobian, so the tips cannot overshoot one another.
-Units: mm, N, mJ, rad.
+c > 0 a scale (N/mm) that changes the iterates, not the solution. It is piecewise
+smooth: where |R_t - c du| <= mu R_n it reads c du = 0 (the tip sticks), elsewhere
+sigma lambda . t + mu lambda . n = 0 with sigma = sign(c du - R_t) the way the tip slides
+(it is on its cone's edge). All of a design's tips are solved together with the body by a
+semismooth Newton method: each iteration takes the branch of each tip from the current
+iterate and the Jacobian of that branch (dc/du = t, dt/du = kappa n, dn/du = -kappa t,
+kappa the path's curvature as its samples are interpolated), with a backtracking line
+search on the residual. The stiff coupling of three or more tips through the body is in
+the Jacobian, and no active set is guessed. Units: mm, N, mJ, rad.
 """
 
 from __future__ import annotations
@@ -23,76 +29,83 @@ import numpy as np
 
 from bristlecrawler.reduced.bristled.body import NewtonOptions, kkt, split_unknowns
 
+#: Alart-Curnier's scale c, N/mm (about a tip's tangential stiffness through its rod).
+SCALE = 10.0
 
-def _system(bodies, contacts, x, u, u0, sliding, dirn, s, held):
-    """Residual (D, n + B) and Jacobian of the equilibrium with the tips' u appended."""
-    D, B = u.shape
-    q, phi, lam = split_unknowns(x, B)
+
+def _system(bodies, contacts, x, u0, free, s, held, c=SCALE, visc=0.0):
+    """Residual (D, n + B) and Jacobian of the equilibrium with the tips' u appended, on
+    the branch each tip's Coulomb law takes at ``x`` (with a viscous resistance ``visc``
+    (D,) N/mm to sliding, zero for Coulomb's law itself); also returns which tips slide
+    (D, B) and their directions (+-1)."""
+    D, B = u0.shape
+    n0 = 3 + 4 * B
+    q, phi, lam = split_unknowns(x[:, :n0], B)
+    u = x[:, n0:]
     centre, t, n = contacts.frame(u)
     dc, kappa = contacts.derivatives(u)
     r0, k0 = kkt(bodies, q, phi, lam, centre, s, held)
-    n0 = r0.shape[1]
     r = np.zeros((D, n0 + B))
     K = np.zeros((D, n0 + B, n0 + B))
     r[:, :n0], K[:, :n0, :n0] = r0, k0
     live = bodies.on & held
-    sl = sliding & live
     mu = contacts.mu[:, None]
     lt = np.sum(lam * t, -1)
     ln = np.sum(lam * n, -1)
+    z = -lt - c * (u - u0)
+    bound = mu * np.maximum(-ln, 0.0)
+    sl = free & live & (np.abs(z) > bound)
+    dirn = np.where(z > 0, -1.0, 1.0)
     rows = np.arange(B)
     o = 3 + 4 * rows
     cols = n0 + rows
     K[:, o + 2, cols] = np.where(live, -dc[..., 0], 0.0)
     K[:, o + 3, cols] = np.where(live, -dc[..., 1], 0.0)
-    r[:, cols] = np.where(sl, dirn * lt + mu * ln, u - u0)
+    visc = np.broadcast_to(np.asarray(visc, float), (D,))[:, None]
+    r[:, cols] = np.where(sl, dirn * lt + mu * ln - visc * dirn * (u - u0), c * (u - u0))
     grad = dirn[..., None] * t + mu[..., None] * n
     K[:, cols, o + 2] = np.where(sl, grad[..., 0], 0.0)
     K[:, cols, o + 3] = np.where(sl, grad[..., 1], 0.0)
-    K[:, cols, cols] = np.where(sl, kappa * (dirn * ln - mu * lt), 1.0)
-    return r, K
+    K[:, cols, cols] = np.where(sl, kappa * (dirn * ln - mu * lt) - visc * dirn, c)
+    return r, K, sl, dirn
 
 
-def slide_equilibrium(
-    bodies, contacts, pose, u, s, sliding, dirn, du_cap: float, opts: NewtonOptions
+def coulomb_equilibrium(
+    bodies,
+    contacts,
+    pose,
+    u,
+    s,
+    free,
+    du_cap: float,
+    opts: NewtonOptions,
+    c: float = SCALE,
+    visc=0.0,
 ):
-    """The equilibrium at ``s`` with the tips ``sliding`` (D, B) free to move along their
-    paths in the directions ``dirn`` (+-1) until their forces are on their cones' edges,
-    the other held tips where they are (Newton's method; no tip moves more than
-    ``du_cap`` mm in one iteration). ``pose`` is (q, phi, lambda, held).
+    """The equilibrium at ``s`` with the tips ``free`` (D, B) sticking or sliding along
+    their paths by Coulomb's law, the other held tips where they are (semismooth Newton;
+    no tip moves more than ``du_cap`` mm in one iteration, no joint angle more than
+    ``opts.max_angle``). ``pose`` is (q, phi, lambda, held).
 
-    Returns (pose, u, converged (D,)); a design's result holds only where it converged
-    and every sliding tip went the way it slides (the caller checks the latter)."""
+    Returns (pose, u, converged (D,)); a design's result holds only where it converged."""
     q, phi, lam, held = pose
     D, B = u.shape
+    n0 = 3 + 4 * B
     x = np.concatenate([q, np.concatenate([phi, lam], -1).reshape(D, 4 * B), u], -1)
     u0 = u
+    visc = np.broadcast_to(np.asarray(visc, float), (D,))
     done = np.zeros(D, bool)
-    n0 = 3 + 4 * B
-    # A Newton step that raises the residual is halved (a tip's cone condition turns
-    # sharply where its path bends into a corner, and a full step there can overshoot).
-    last = np.full(D, np.inf)
-    taken = np.zeros_like(x)
     for _ in range(opts.iterations):
         act = np.flatnonzero(~done)
         if act.size == 0:
             break
         xa = x[act]
-        r, K = _system(
-            bodies.take(act),
-            contacts.take(act),
-            xa[:, :n0],
-            xa[:, n0:],
-            u0[act],
-            sliding[act],
-            dirn[act],
-            s[act],
-            held[act],
-        )
+        sub = (bodies.take(act), contacts.take(act))
+        rest = (u0[act], free[act], s[act], held[act], c, visc[act])
+        r, K, _, _ = _system(*sub, xa, *rest)
         size = np.abs(r).max(axis=1)
         small = size < opts.tol
         done[act[small]] = True
-        worse = ~small & (size > last[act]) & (np.abs(taken[act]).max(axis=1) > 1e-14)
         ok = np.abs(np.linalg.det(K)) > 1e-300
         K[~ok] = np.eye(K.shape[1])
         step = -np.linalg.solve(K, r[..., None])[..., 0]
@@ -104,47 +117,83 @@ def slide_equilibrium(
                 opts.max_angle / np.maximum(ang, 1e-300), du_cap / np.maximum(slide, 1e-300)
             ),
         )
-        step = scale[:, None] * step
-        half = 0.5 * taken[act]
-        step = np.where(worse[:, None], -half, np.where(small[:, None], 0.0, step))
-        taken[act] = np.where(worse[:, None], half, step)
-        last[act] = np.where(worse, last[act], size)
-        x[act] = xa + step
+        step = np.where(small[:, None], 0.0, scale[:, None] * step)
+        # Backtracking: a tip's branch switches where its force crosses its cone's edge,
+        # and a full step across a corner's bend can overshoot.
+        alpha = np.ones(len(act))
+        accepted = small.copy()
+        for _ in range(6):
+            r_t, _, _, _ = _system(*sub, xa + alpha[:, None] * step, *rest)
+            accepted |= np.abs(r_t).max(axis=1) < (1.0 - 1e-4 * alpha) * size
+            if accepted.all():
+                break
+            alpha = np.where(accepted, alpha, 0.5 * alpha)
+        x[act] = xa + alpha[:, None] * step
     q, phi, lam = split_unknowns(x[:, :n0], B)
     return (q, phi, lam, held), x[:, n0:], done
 
 
 def solve_slides(bodies, contacts, pose, u, s, must, sliding, dirn, du_cap, newton):
-    """The stops of the tips that may slide (``sliding``, (D, B)) found together
-    (:func:`slide_equilibrium`), the others sticking; a tip that would slide
-    backwards sticks instead and the rest are solved again. Returns (pose, u, accepted
-    (D,)): not accepted where the solve failed or a tip that ``must`` slide (one beyond its
-    cone) would go backwards (its resistance falls as it goes: a snap, which the caller
-    runs on)."""
-    accepted = np.zeros(len(u), bool)
+    """The stops of the tips that may slide (``sliding``, (D, B)), each sticking or
+    sliding by Coulomb's law (:func:`coulomb_equilibrium`), the others held. Returns
+    (pose, u, accepted (D,)): not accepted where the solve failed or a tip that ``must``
+    slide (one beyond its cone, going the way ``dirn`` says) went backwards (its
+    resistance falls as it goes: a snap, which the caller runs on)."""
+    new_pose, new_u, ok = coulomb_equilibrium(bodies, contacts, pose, u, s, sliding, du_cap, newton)
+    back = must & (dirn * (new_u - u) < -1e-12)
+    return new_pose, new_u, ok & ~back.any(axis=1)
+
+
+
+def run_on(bodies, contacts, pose, u, s, du, dirn, du_cap, newton, tries: int = 6):
+    """One step of a snap's run at frozen ``s``, where no tip's stop is within reach: every
+    held tip sticks or slides against Coulomb's resistance plus a viscous one,
+    ``|R_t| = mu R_n + eta |du|`` while sliding, from where it is (:func:`coulomb_equilibrium`
+    with ``visc`` = eta). eta (N/mm) is set so that the tip furthest beyond its cone
+    would move about ``du`` (mm, (D, B); its largest entry counts) against it, and raised
+    fourfold until the solve converges: a large enough eta outweighs the fall of a
+    snapping tip's resistance, so each step has a solution close by. Repeated, the steps
+    follow an overdamped path of all the tips together to their next stops, where they
+    no longer move and the viscous force is gone (Coulomb's law alone holds). ``dirn`` is
+    not used: each tip's way comes out of the solve. Returns (pose, u, converged (D,))."""
+    del dirn
+    q, phi, lam, held = pose
+    excess = _excess(contacts, lam, u, bodies.on & held)
+    lead = np.maximum(du.max(axis=1), 1e-9)
+    eta = np.maximum(excess.max(axis=1), 1e-9) / lead
+    free = bodies.on & held
     out_pose, out_u = pose, u
-    for _ in range(u.shape[1]):
-        new_pose, new_u, ok = slide_equilibrium(
-            bodies,
-            contacts,
-            pose,
-            u,
-            s,
-            sliding,
-            dirn,
+    done = np.zeros(len(u), bool)
+    for _ in range(tries):
+        act = np.flatnonzero(~done)
+        if act.size == 0:
+            break
+        p, v, ok = coulomb_equilibrium(
+            bodies.take(act),
+            contacts.take(act),
+            tuple(a[act] for a in pose),
+            u[act],
+            s[act],
+            free[act],
             du_cap,
             newton,
+            visc=eta[act],
         )
-        back = sliding & (dirn * (new_u - u) < -1e-12)
-        good = ok & ~back.any(axis=1) & ~accepted
-        out_pose = tuple(
-            np.where(good.reshape(good.shape + (1,) * (np.ndim(a) - 1)), b, a)
-            for a, b in zip(out_pose, new_pose, strict=True)
-        )
-        out_u = np.where(good[:, None], new_u, out_u)
-        accepted |= good
-        retry = ok & ~accepted & ~(back & must).any(axis=1)
-        if not retry.any():
-            break
-        sliding = np.where(retry[:, None], sliding & ~back, sliding)
-    return out_pose, out_u, accepted
+        good = act[ok]
+        out_pose = tuple(a.copy() for a in out_pose)
+        for a, b in zip(out_pose, p, strict=True):
+            a[good] = b[ok]
+        out_u = out_u.copy()
+        out_u[good] = v[ok]
+        done[good] = True
+        eta[act[~ok]] *= 4.0
+    return out_pose, out_u, done
+
+
+def _excess(contacts, lam, u, live):
+    """Each tip's force beyond its Coulomb cone, N (D, B); -1 where not ``live``."""
+    _, t, n = contacts.frame(u)
+    excess = np.abs(np.sum(lam * t, -1)) + contacts.mu[:, None] * np.minimum(
+        np.sum(lam * n, -1), 0.0
+    )
+    return np.where(live, excess, -1.0)
