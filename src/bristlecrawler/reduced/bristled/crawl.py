@@ -300,8 +300,6 @@ def _col(mask, a):
     return mask.reshape(mask.shape + (1,) * (np.ndim(a) - 1))
 
 
-
-
 def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
     """The slide corrector at frozen ``s``: returns (pose, u).
 

@@ -144,7 +144,6 @@ def solve_slides(bodies, contacts, pose, u, s, must, sliding, dirn, du_cap, newt
     return new_pose, new_u, ok & ~back.any(axis=1)
 
 
-
 def run_on(bodies, contacts, pose, u, s, du, dirn, du_cap, newton, tries: int = 6):
     """One step of a snap's run at frozen ``s``, where no tip's stop is within reach: every
     held tip sticks or slides against Coulomb's resistance plus a viscous one,
@@ -157,7 +156,7 @@ def run_on(bodies, contacts, pose, u, s, du, dirn, du_cap, newton, tries: int = 
     no longer move and the viscous force is gone (Coulomb's law alone holds). ``dirn`` is
     not used: each tip's way comes out of the solve. Returns (pose, u, converged (D,))."""
     del dirn
-    q, phi, lam, held = pose
+    _, _, lam, held = pose
     excess = _excess(contacts, lam, u, bodies.on & held)
     lead = np.maximum(du.max(axis=1), 1e-9)
     eta = np.maximum(excess.max(axis=1), 1e-9) / lead
