@@ -39,7 +39,7 @@ from bristlecrawler.reduced.bristled.body import (
     potential,
     tips_of,
 )
-from bristlecrawler.reduced.bristled.slide import run_on, solve_slides
+from bristlecrawler.reduced.bristled.slide import solve_slides
 
 
 @dataclass(frozen=True)
@@ -300,6 +300,16 @@ def _col(mask, a):
     return mask.reshape(mask.shape + (1,) * (np.ndim(a) - 1))
 
 
+def _run_on(bodies, contacts, pose, u, s, du, dirn, newton):
+    """The tips moved by ``du`` (mm, >= 0) in the directions ``dirn`` and the body in
+    equilibrium with them held there: (pose, u, converged)."""
+    q, phi, lam, held = pose
+    u = u + dirn * du
+    tips, _, _ = contacts.frame(u)
+    q, phi, lam, ok = equilibrium(bodies, q, phi, lam, tips, s, held, newton)
+    return (q, phi, lam, held), u, ok
+
+
 def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
     """The slide corrector at frozen ``s``: returns (pose, u).
 
@@ -354,7 +364,7 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
             du[trial] = np.where(ok_t[:, None], np.abs(u_t - u[trial]), du[trial])
         rest = rows[live & ~solved]
         if rest.size:
-            p_r, u_r, ok_r = run_on(
+            p_r, u_r, ok_r = _run_on(
                 bodies.take(rest),
                 contacts.take(rest),
                 tuple(a[rest] for a in pose),
@@ -362,7 +372,6 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
                 s[rest],
                 du[rest],
                 dirn[rest],
-                opts.du_cap,
                 newton,
             )
             new_pose = tuple(a.copy() for a in new_pose)
@@ -370,7 +379,6 @@ def correct(bodies, contacts, pose, u, s, tally: Tally, opts=None, newton=None):
                 a[rest] = b
             new_u = new_u.copy()
             new_u[rest] = u_r
-            du[rest] = np.abs(u_r - u[rest])
             tally.unconverged[rest] += ~ok_r
         tally.coulomb += np.sum(contacts.mu[:, None] * np.maximum(normal, 0.0) * du, 1) * live
         tally.lifts += changed
