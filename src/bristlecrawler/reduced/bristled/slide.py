@@ -33,10 +33,9 @@ from bristlecrawler.reduced.bristled.body import NewtonOptions, kkt, split_unkno
 SCALE = 10.0
 
 
-def _system(bodies, contacts, x, u0, free, s, held, c=SCALE, visc=0.0):
+def _system(bodies, contacts, x, u0, free, s, held, c=SCALE):
     """Residual (D, n + B) and Jacobian of the equilibrium with the tips' u appended, on
-    the branch each tip's Coulomb law takes at ``x`` (with a viscous resistance ``visc``
-    (D,) N/mm to sliding, zero for Coulomb's law itself); also returns which tips slide
+    the branch each tip's Coulomb law takes at ``x``; also returns which tips slide
     (D, B) and their directions (+-1)."""
     D, B = u0.shape
     n0 = 3 + 4 * B
@@ -61,26 +60,16 @@ def _system(bodies, contacts, x, u0, free, s, held, c=SCALE, visc=0.0):
     cols = n0 + rows
     K[:, o + 2, cols] = np.where(live, -dc[..., 0], 0.0)
     K[:, o + 3, cols] = np.where(live, -dc[..., 1], 0.0)
-    visc = np.broadcast_to(np.asarray(visc, float), (D,))[:, None]
-    r[:, cols] = np.where(sl, dirn * lt + mu * ln - visc * dirn * (u - u0), c * (u - u0))
+    r[:, cols] = np.where(sl, dirn * lt + mu * ln, c * (u - u0))
     grad = dirn[..., None] * t + mu[..., None] * n
     K[:, cols, o + 2] = np.where(sl, grad[..., 0], 0.0)
     K[:, cols, o + 3] = np.where(sl, grad[..., 1], 0.0)
-    K[:, cols, cols] = np.where(sl, kappa * (dirn * ln - mu * lt) - visc * dirn, c)
+    K[:, cols, cols] = np.where(sl, kappa * (dirn * ln - mu * lt), c)
     return r, K, sl, dirn
 
 
 def coulomb_equilibrium(
-    bodies,
-    contacts,
-    pose,
-    u,
-    s,
-    free,
-    du_cap: float,
-    opts: NewtonOptions,
-    c: float = SCALE,
-    visc=0.0,
+    bodies, contacts, pose, u, s, free, du_cap: float, opts: NewtonOptions, c: float = SCALE
 ):
     """The equilibrium at ``s`` with the tips ``free`` (D, B) sticking or sliding along
     their paths by Coulomb's law, the other held tips where they are (semismooth Newton;
@@ -93,7 +82,6 @@ def coulomb_equilibrium(
     n0 = 3 + 4 * B
     x = np.concatenate([q, np.concatenate([phi, lam], -1).reshape(D, 4 * B), u], -1)
     u0 = u
-    visc = np.broadcast_to(np.asarray(visc, float), (D,))
     done = np.zeros(D, bool)
     for _ in range(opts.iterations):
         act = np.flatnonzero(~done)
@@ -101,7 +89,7 @@ def coulomb_equilibrium(
             break
         xa = x[act]
         sub = (bodies.take(act), contacts.take(act))
-        rest = (u0[act], free[act], s[act], held[act], c, visc[act])
+        rest = (u0[act], free[act], s[act], held[act], c)
         r, K, _, _ = _system(*sub, xa, *rest)
         size = np.abs(r).max(axis=1)
         small = size < opts.tol
@@ -142,4 +130,3 @@ def solve_slides(bodies, contacts, pose, u, s, must, sliding, dirn, du_cap, newt
     new_pose, new_u, ok = coulomb_equilibrium(bodies, contacts, pose, u, s, sliding, du_cap, newton)
     back = must & (dirn * (new_u - u) < -1e-12)
     return new_pose, new_u, ok & ~back.any(axis=1)
-
