@@ -83,14 +83,25 @@ def coulomb_equilibrium(
     x = np.concatenate([q, np.concatenate([phi, lam], -1).reshape(D, 4 * B), u], -1)
     u0 = u
     done = np.zeros(D, bool)
+
+    def system(rows, at):
+        return _system(
+            bodies.take(rows), contacts.take(rows), at, u0[rows], free[rows], s[rows], held[rows], c
+        )
+
+    # The system at an accepted trial step is the next iteration's: kept, not assembled twice.
+    kept_r = np.zeros((D, n0 + B))
+    kept_K = np.zeros((D, n0 + B, n0 + B))
+    kept = np.zeros(D, bool)
     for _ in range(opts.iterations):
         act = np.flatnonzero(~done)
         if act.size == 0:
             break
         xa = x[act]
-        sub = (bodies.take(act), contacts.take(act))
-        rest = (u0[act], free[act], s[act], held[act], c)
-        r, K, _, _ = _system(*sub, xa, *rest)
+        new = act[~kept[act]]
+        if new.size:
+            kept_r[new], kept_K[new], _, _ = system(new, x[new])
+        r, K = kept_r[act], kept_K[act].copy()
         size = np.abs(r).max(axis=1)
         small = size < opts.tol
         done[act[small]] = True
@@ -110,12 +121,18 @@ def coulomb_equilibrium(
         # and a full step across a corner's bend can overshoot.
         alpha = np.ones(len(act))
         accepted = small.copy()
+        kept[act] = False
         for _ in range(6):
-            r_t, _, _, _ = _system(*sub, xa + alpha[:, None] * step, *rest)
-            accepted |= np.abs(r_t).max(axis=1) < (1.0 - 1e-4 * alpha) * size
-            if accepted.all():
+            wait = np.flatnonzero(~accepted)
+            if wait.size == 0:
                 break
-            alpha = np.where(accepted, alpha, 0.5 * alpha)
+            rows = act[wait]
+            r_t, K_t, _, _ = system(rows, xa[wait] + alpha[wait, None] * step[wait])
+            good = np.abs(r_t).max(axis=1) < (1.0 - 1e-4 * alpha[wait]) * size[wait]
+            kept_r[rows[good]], kept_K[rows[good]] = r_t[good], K_t[good]
+            kept[rows[good]] = True
+            accepted[wait[good]] = True
+            alpha[wait[~good]] *= 0.5
         x[act] = xa + alpha[:, None] * step
     q, phi, lam = split_unknowns(x[:, :n0], B)
     return (q, phi, lam, held), x[:, n0:], done
