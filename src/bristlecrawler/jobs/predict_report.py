@@ -34,8 +34,8 @@ LABELS = {
 CHECKED = {
     DEFAULT: (
         f"{BRISTLED_FINDINGS}: on two-bristle designs at 45 degrees the steady cycle equal "
-        "to the FE's and the work within 2.1 % (7 designs, pitch 1.5 to 4 mm); at 30 "
-        "degrees the work 22-33 % high; with three or more bristles it does not settle "
+        "to the FE's and the work within 0.9 % (7 designs, pitch 1.5 to 4 mm); at 30 "
+        "degrees the work 22-35 % high; with three or more bristles it does not settle "
         "(no result)"
     ),
     "texture": f"{FINDINGS}: steady cycle within half a pitch on 2 of 7 designs",
