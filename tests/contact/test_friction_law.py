@@ -180,3 +180,20 @@ def test_the_power_law_refuses_what_it_cannot_mean(kwargs, message):
     args = {"mu": 0.65, "k_n": K_N, "k_t": K_T, "exponent": 0.7, "load": 0.3} | kwargs
     with pytest.raises(InputError, match=message):
         PowerLaw(**args)
+
+
+def test_the_power_laws_reference_load_is_its_own_not_the_penalty_load():
+    """The penalties are sized at the penalty load; the law's L is its own setting (the
+    crawler's ``contact.friction_load``, by default the weight on one bristle), refused
+    with the Coulomb law."""
+    from bristlecrawler.crawler.parts import Contact
+
+    law = PowerLaw.for_reference_load(0.65, load=2.0, exponent=0.5, reference=0.3)
+    assert float(law.load) == 0.3 and float(law.k_n) == pytest.approx(2.0 / 1e-3)
+    assert float(law.limit(0.3)) == pytest.approx(0.65 * 0.3, rel=1e-12)
+    power = Contact(friction="power", penalty_load=2.0)
+    assert power.law_options(0.27) == {"exponent": pytest.approx(2 / 3), "reference": 0.27}
+    given = Contact(friction="power", friction_load=0.5)
+    assert given.law_options(0.27)["reference"] == 0.5
+    with pytest.raises(InputError, match=r"contact\.friction_load is the power law's"):
+        Contact(friction_load=0.5).check()

@@ -50,7 +50,7 @@ import numpy as np
 from bristlecrawler._pytree import pytree
 from bristlecrawler.contact.corner_tangent import WINDOW, near_forces
 from bristlecrawler.contact.coulomb import (
-    CoulombLaw,
+    FrictionLaw,
     frozen_status,
 )
 from bristlecrawler.contact.outline import (
@@ -94,7 +94,7 @@ class FaceParams:
         corners: corner centres in one period of the substrate, mm, (k, 2).
         radii: corner fillet radii, mm, (k,).
         period: substrate period, mm.
-        law: the :class:`CoulombLaw`.
+        law: the :class:`FrictionLaw`.
     """
 
     X: Any
@@ -175,7 +175,7 @@ class FaceCornerContact(Term):
         return math.ceil((span + 2.0 * margin) / period) + 2
 
     @staticmethod
-    def params(model_X, faces, offsets, substrate, law: CoulombLaw) -> FaceParams:
+    def params(model_X, faces, offsets, substrate, law: FrictionLaw) -> FaceParams:
         """Parameters for the outlines ``faces`` of a structure with reference positions
         ``model_X``; ``offsets`` (F, n, 2) mm per outline point. ``substrate`` must have
         convex corners (:func:`convex_corners`): a term without any would never act, so

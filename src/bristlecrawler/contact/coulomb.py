@@ -86,7 +86,11 @@ class FrictionLaw(abc.ABC):
     A law is a frozen PyTree dataclass (:func:`~bristlecrawler._pytree.pytree`) whose
     leaves are its parameters (so they change without a recompile), subclassing this class
     with its name: ``class MyLaw(CoulombLaw, law="mine")`` registers it, and
-    :meth:`of` finds it by that name (the scenario's ``contact.friction``). Every argument
+    :meth:`of` finds it by that name. A law of the package's (imported by
+    :mod:`bristlecrawler.contact`, so registered before the crawler's settings are read)
+    is a word of the scenario's ``contact.friction``; the crawler builds it with
+    ``for_reference_load`` (:class:`CoulombLaw`'s, which a subclass inherits, its own
+    parameters through ``at_load``). A law acts at each contact point. Every argument
     broadcasts over contact points. The hooks a law defines:
 
     * :meth:`normal_force` ``(g, lambda_n) -> p_N`` (N) and :meth:`normal_energy` (mJ,
@@ -271,7 +275,8 @@ class CoulombStep(NamedTuple):
         anchor: updated stick anchor, mm.
         state: 0 open, 1 stick, 2 slip (int).
         slip: slip increment of the step ``|Delta anchor|``, mm (0 in stick and open).
-        dissipation: frictional dissipation of the step ``mu p_N slip``, mJ.
+        dissipation: frictional dissipation of the step, the limit times the slip
+            (``mu p_N slip`` for Coulomb's law), mJ.
         stored: elastic penalty energy at the end of the step, mJ.
     """
 

@@ -8,11 +8,18 @@ limit of the tangential resistance as
 
     F(p_N) = mu L (p_N / L)^m,     0.5 <= m <= 1,
 
-with ``L`` the reference load at which the coefficient ``mu`` is measured (by default the
-weight on one bristle, the penalty load of the crawler): at ``p_N = L`` it is Coulomb's
+with ``L`` the reference load at which the coefficient ``mu`` is measured (in the crawler
+``contact.friction_load``, by default the weight on one bristle): at ``p_N = L`` it is Coulomb's
 ``mu L``; below ``L`` it resists more than Coulomb, above less. ``m = 1`` is Coulomb's law
 exactly. Everything else (the penalty normal part, the stick penalty ``k_t``, the return
 mapping, the exact dissipation ``F |Delta a|``) is :class:`CoulombLaw`'s.
+
+The law acts at each contact point, as the kernels apply every law: where several points
+of one bristle press the substrate at once (points on every node, a land edge on the face
+beside the tip's end), each takes the law of its own load, and for m < 1 their sum is more
+than the law of their summed load, so the result depends on how the contact is
+discretised. Its slip tangent d F / d p_N = m mu (p_N / L)^(m - 1) has no bound as a
+point's load goes to zero (at touchdown).
 
 The scenario chooses it with ``contact.friction = "power"`` and ``contact.friction_exponent``.
 """
@@ -72,9 +79,16 @@ class PowerLaw(CoulombLaw, law="power"):
 
     @classmethod
     def at_load(
-        cls, mu: float, k_n: float, k_t: float, load: float, exponent: float = HERTZ_EXPONENT
+        cls,
+        mu: float,
+        k_n: float,
+        k_t: float,
+        load: float,
+        exponent: float = HERTZ_EXPONENT,
+        reference: float | None = None,
     ) -> PowerLaw:
-        """The law with the penalties of :meth:`CoulombLaw.for_reference_load` (the
-        friction limit at ``load`` is the same, ``mu load``), ``load`` its reference load
-        L and ``exponent`` its m (default 2/3, a Hertzian contact)."""
-        return cls(mu=mu, k_n=k_n, k_t=k_t, exponent=exponent, load=load)
+        """The law with the penalties of :meth:`CoulombLaw.for_reference_load` (sized at
+        ``load``), ``exponent`` its m (default 2/3, a Hertzian contact) and ``reference``
+        its L (N; default ``load``): the penalties are numerics, L is physics."""
+        L = load if reference is None else reference
+        return cls(mu=mu, k_n=k_n, k_t=k_t, exponent=exponent, load=L)

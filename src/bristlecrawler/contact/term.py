@@ -6,7 +6,7 @@ contribution to the internal force (penalty normal force, Coulomb friction with 
 anchor as history); the tangent comes from autodiff through the return mapping, so it is
 the consistent, non-symmetric one. The history is committed only after a converged step
 (never inside Newton), and it accumulates the exact frictional dissipation
-``sum mu p_N |Delta anchor|``.
+``sum F(p_N) |Delta anchor|`` (Coulomb: ``mu p_N``).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 from jax.custom_derivatives import SymbolicZero
 
 from bristlecrawler._pytree import pytree
-from bristlecrawler.contact.coulomb import CoulombLaw, frozen_status
+from bristlecrawler.contact.coulomb import FrictionLaw, frozen_status
 from bristlecrawler.contact.node import node_force, node_step
 from bristlecrawler.contact.profile import project
 from bristlecrawler.errors import InputError
@@ -104,7 +104,7 @@ class ContactParams:
     Attributes:
         X: reference positions of the contact nodes, mm, (k, 2).
         substrate: the rigid substrate (a PyTree from :mod:`.substrates`).
-        law: the :class:`CoulombLaw` (mu, penalty stiffnesses).
+        law: the :class:`FrictionLaw` (its limit, penalty stiffnesses).
         radius: contact radius of each point, mm, (k,): the point touches the substrate
             with a disc of this radius (0: the point itself).
         offset: reference offset of each contact point from its node, mm, (k, 2); it turns
@@ -168,7 +168,7 @@ class SubstrateContact(Term):
 
     @staticmethod
     def params(
-        model_X: np.ndarray, nodes, substrate, law: CoulombLaw, radius=0.0, offset=None
+        model_X: np.ndarray, nodes, substrate, law: FrictionLaw, radius=0.0, offset=None
     ) -> ContactParams:
         """Parameters for ``nodes`` of a structure with reference positions ``model_X``;
         ``radius`` (mm) one value or one per point; ``offset`` (mm) None or (k, 2)."""

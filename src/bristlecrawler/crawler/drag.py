@@ -178,11 +178,10 @@ def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
     spec.check()
     test.check(spec)
     b = dataclasses.replace(spec.bristles[test.bristle], position=0.0)
-    load = test.load or weight_share(spec)
+    share = weight_share(spec)
+    load = test.load or share
     # The bristle's penalties are sized for the crawler's weight share (as in the crawler).
-    contact = dataclasses.replace(
-        spec.contact, penalty_load=spec.contact.penalty_load or weight_share(spec)
-    )
+    contact = dataclasses.replace(spec.contact, penalty_load=spec.contact.penalty_load or share)
     one = dataclasses.replace(spec, bristles=(b,), contact=contact)
     s = fe.Structure()
     root, tip = bristle_ends(b, contact, x=0.0)
@@ -196,7 +195,7 @@ def build_drag(spec: CrawlerSpec, test: DragTest | None = None) -> DragModel:
     chain = tuple(s.chain(clamp, tip, b.elements, b.section()))
     s.gravity(0.0, -spec.gravity)
     s.stiffness_damping(spec.damping.stiffness_proportional)
-    term, _, tip_points = add_contact(s, one, [chain])
+    term, _, tip_points = add_contact(s, one, [chain], weight=share)
     return DragModel(s.build(), one, test, clamp, chain, term, tip_points, load)
 
 

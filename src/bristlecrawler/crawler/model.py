@@ -190,21 +190,24 @@ def _contact_points(spec: CrawlerSpec, chains):
     return nodes, np.zeros((len(nodes), 2)), radius, tuple((i,) for i in range(n))
 
 
-def _friction_law(spec: CrawlerSpec):
+def _friction_law(spec: CrawlerSpec, weight: float):
     """The scenario's friction law (``contact.friction``) with penalties sized for the
-    weight on one bristle (or a given peak load): penetration below 1 micrometre and stick
-    drift below ``contact.stick_drift`` at that load (the power law's reference load)."""
+    weight on one bristle, ``weight`` (N; or a given peak load): penetration below 1
+    micrometre and stick drift below ``contact.stick_drift`` at that load."""
     c = spec.contact
-    load = c.penalty_load or weight_share(spec)
+    load = c.penalty_load or weight
     law = FrictionLaw.of(c.friction)
-    return law.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift, **c.law_options())
+    options = c.law_options(weight)
+    return law.for_reference_load(c.mu, load=load, max_stick_drift=c.stick_drift, **options)
 
 
-def add_contact(s, spec: CrawlerSpec, chains):
+def add_contact(s, spec: CrawlerSpec, chains, weight: float | None = None):
     """Add the contact of ``spec``'s bristle ``chains`` with its substrate to structure
     ``s``: the substrate term (and the corner term where the substrate has convex
-    corners); returns (substrate term, corner term or None, each tip's contact points)."""
-    law = _friction_law(spec)
+    corners); returns (substrate term, corner term or None, each tip's contact points).
+    ``weight``: the weight on one bristle of the crawler (N; default ``spec``'s), which
+    sizes the penalties and is the power law's default reference load."""
+    law = _friction_law(spec, weight_share(spec) if weight is None else weight)
     nodes, offsets, radius, tip_points = _contact_points(spec, chains)
     X = s.coordinates
     term = SubstrateContact(tuple(int(n) for n in nodes), active=spec.contact.active_points)

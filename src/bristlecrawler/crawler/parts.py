@@ -178,6 +178,15 @@ class Contact(Settings):
         le=EXPONENT_RANGE[1],
         none=True,
     )
+    friction_load: float | None = setting(
+        None,
+        "the power law's reference load L, at which its friction is mu L (only with "
+        "friction = power; null: the weight on one bristle; the law acts at each contact "
+        "point), N",
+        gt=0.0,
+        le=1e6,
+        none=True,
+    )
     nodes: Literal["tip", "all"] = setting(
         "all",
         "contact nodes: the bristle tips only, or every bristle node",
@@ -249,18 +258,20 @@ class Contact(Settings):
         super().check(prefix)
 
     def rules(self, prefix: str = "contact.") -> None:
-        if self.friction_exponent is not None and self.friction != "power":
-            raise InputError(
-                f"{prefix}friction_exponent is the power law's: set {prefix}friction = "
-                f'"power" or leave it out (the {self.friction} law has none)'
-            )
+        for key in ("friction_exponent", "friction_load"):
+            if getattr(self, key) is not None and self.friction != "power":
+                raise InputError(
+                    f"{prefix}{key} is the power law's: set {prefix}friction = "
+                    f'"power" or leave it out (the {self.friction} law has none)'
+                )
 
-    def law_options(self) -> dict[str, float]:
+    def law_options(self, weight: float) -> dict[str, float]:
         """The keywords of the friction law's ``for_reference_load`` beyond mu, load and
-        stick drift."""
+        stick drift (``weight``: the weight on one bristle, N, the power law's default
+        reference load)."""
         if self.friction == "power":
             m = HERTZ_EXPONENT if self.friction_exponent is None else self.friction_exponent
-            return {"exponent": m}
+            return {"exponent": m, "reference": self.friction_load or weight}
         return {}
 
 

@@ -118,11 +118,19 @@ def parse_substrate(table: Mapping[str, Any]) -> Any:
                 raise InputError(f"substrate.kind is missing (one of {kinds})") from None
             raise InputError(f"substrate.kind: {table['kind']!r} is not one of {kinds}") from None
         if err["type"] == "value_error":  # the kind's own check: its one line as it is
-            raise InputError(str(err["msg"]).removeprefix("Value error, ")) from None
+            raise InputError(_keyed(str(err["msg"]).removeprefix("Value error, "))) from None
         loc = [str(x) for x in err["loc"]]
         if loc and loc[0] in KINDS:  # the union's tag, not a key of the table
             loc = loc[1:]
         raise InputError(f"substrate.{'.'.join(loc) or 'kind'}: {_message(err)}") from None
+
+
+def _keyed(message: str) -> str:
+    """A substrate's own message with the key it starts with named as the table's
+    (``points ...`` -> ``substrate.points ...``)."""
+    first = message.split(" ", 1)[0].rstrip(":")
+    fields = {f for c in KINDS.values() for f in c.__dataclass_fields__}
+    return f"substrate.{message}" if first in fields else message
 
 
 def _message(err: dict) -> str:
