@@ -101,7 +101,9 @@ def test_a_killed_run_leaves_no_folder_and_does_not_block_the_rerun(tmp_path, ru
 
 @pytest.mark.slow
 def test_ctrl_c_during_the_solve_says_nothing_was_written(tmp_path):
-    proc = _cli("reduced", "--cycles", "400", "--no-figures", "--out", "o", cwd=tmp_path)
+    # Long enough (seconds of solving) that the signal lands in the solve on a loaded
+    # machine too, where the claim is seen late.
+    proc = _cli("reduced", "--cycles", "2000", "--no-figures", "--out", "o", cwd=tmp_path)
     try:
         assert _wait_for(lambda: _partials(tmp_path)), "the run never claimed its folder"
         time.sleep(0.3)  # into the solve
