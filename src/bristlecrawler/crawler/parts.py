@@ -180,9 +180,8 @@ class Contact(Settings):
     )
     friction_load: float | None = setting(
         None,
-        "the power law's reference load L, at which its friction is mu L (only with "
-        "friction = power; null: the weight on one bristle; the law acts at each contact "
-        "point), N",
+        "the power law's reference load L, where its friction is mu L, N; null: the "
+        "weight on one bristle. Only with friction = power",
         gt=0.0,
         le=1e6,
         none=True,
